@@ -1,0 +1,24 @@
+"""The list of cases: name -> module. A case module defines
+
+- ``DESCRIPTION`` (one line),
+- ``run(variant: str, seed: int, progress: Progress) -> CaseResult``.
+
+Modules are imported only when listed or run, so a case that needs DOLFINx does not make the
+others depend on it.
+"""
+from __future__ import annotations
+
+import importlib
+
+CASES = {
+}
+
+DEMO_CASE = None
+
+
+def case_module(name: str):
+    """Import and return the module of case ``name`` (ValueError naming the known cases)."""
+    if name not in CASES:
+        known = ", ".join(sorted(CASES)) or "(none)"
+        raise ValueError(f"unknown case {name!r}; known cases: {known}")
+    return importlib.import_module(CASES[name])
