@@ -1,0 +1,158 @@
+"""Every call that depends on the DOLFINx version (written for Debian's 0.5.2) lives here.
+
+When the project moves to a newer DOLFINx, this is the module to port: `model_to_mesh`
+(gmshio signature), quadrature elements (basix.ufl in >= 0.7), Expression.eval (mesh argument
+in >= 0.8), `form_compiler_params` (renamed `form_compiler_options` in 0.6) and geometry queries.
+"""
+import basix
+import numpy as np
+import ufl
+from dolfinx import fem, geometry
+from dolfinx.fem import petsc as fem_petsc
+from dolfinx.io import gmshio
+from mpi4py import MPI
+from petsc4py import PETSc
+
+__all__ = ["model_to_mesh", "quadrature_space", "quadrature_points", "quadrature_measure",
+           "compile_expression", "eval_expression", "block_index", "local_cells",
+           "cells_containing", "create_matrix", "create_vector", "assemble_matrix",
+           "assemble_residual", "lu_solver", "facet_tags", "scalar"]
+
+
+def model_to_mesh(model, gdim=2):
+    """Read the current gmsh model (on rank 0) into a distributed DOLFINx mesh and tags."""
+    return gmshio.model_to_mesh(model, MPI.COMM_WORLD, 0, gdim=gdim)
+
+
+def quadrature_space(mesh, degree, dim):
+    """Function space of `dim` values at every quadrature point (degree `degree`) of each cell."""
+    element = ufl.VectorElement("Quadrature", mesh.ufl_cell(), degree=degree, dim=dim,
+                                quad_scheme="default")
+    return fem.FunctionSpace(mesh, element)
+
+
+def quadrature_points(degree):
+    """Reference points (nq, 2) and weights (nq,) of the default triangle rule."""
+    return basix.make_quadrature(basix.CellType.triangle, degree)
+
+
+def quadrature_measure(mesh, degree, subdomain_data=None):
+    """Cell measure matching the quadrature space (same scheme and degree)."""
+    return ufl.Measure("dx", domain=mesh, subdomain_data=subdomain_data,
+                       metadata={"quadrature_degree": degree, "quadrature_scheme": "default"})
+
+
+def compile_expression(expr, points):
+    """JIT-compile a UFL expression for evaluation at reference `points`."""
+    return fem.Expression(expr, points)
+
+
+def eval_expression(compiled, cells):
+    """Values (len(cells) * nq, value_size) of a compiled Expression, cell-major."""
+    values = compiled.eval(cells)
+    return values.reshape(len(cells) * compiled.X().shape[0], -1)
+
+
+def local_cells(mesh):
+    """Indices of owned and ghost cells on this process."""
+    imap = mesh.topology.index_map(mesh.topology.dim)
+    return np.arange(imap.size_local + imap.num_ghosts, dtype=np.int32)
+
+
+def block_index(space, num_cells):
+    """Block (point) index in a quadrature Function for each (cell, point), cell-major."""
+    return np.asarray(space.dofmap.list.array, dtype=np.int64)[: num_cells * _points_per_cell(space)]
+
+
+def _points_per_cell(space):
+    return space.dofmap.cell_dofs(0).size
+
+
+def cells_containing(mesh, points):
+    """One cell index per point (-1 where no local cell contains it). points: (n, 2)."""
+    pts = np.zeros((len(points), 3))
+    pts[:, :2] = np.asarray(points, dtype=float)
+    tree = geometry.BoundingBoxTree(mesh, mesh.topology.dim)
+    candidates = geometry.compute_collisions(tree, pts)
+    colliding = geometry.compute_colliding_cells(mesh, candidates, pts)
+    cells = np.full(len(pts), -1, dtype=np.int32)
+    for i in range(len(pts)):
+        links = colliding.links(i)
+        if len(links):
+            cells[i] = links[0]
+    return pts, cells
+
+
+def facet_tags(mesh, marked):
+    """MeshTags of boundary facets: marked is a list of (tag, predicate on x (2|3, n))."""
+    from dolfinx import mesh as dmesh
+    fdim = mesh.topology.dim - 1
+    indices, values = [], []
+    for tag, predicate in marked:
+        facets = dmesh.locate_entities_boundary(mesh, fdim, predicate)
+        indices.append(facets)
+        values.append(np.full(len(facets), tag, dtype=np.int32))
+    if not indices:
+        return dmesh.meshtags(mesh, fdim, np.zeros(0, np.int32), np.zeros(0, np.int32))
+    idx = np.concatenate(indices).astype(np.int32)
+    val = np.concatenate(values)
+    order = np.argsort(idx, kind="stable")
+    idx, val = idx[order], val[order]
+    if len(np.unique(idx)) != len(idx):
+        raise ValueError("a boundary facet was marked by two traction predicates")
+    return dmesh.meshtags(mesh, fdim, idx, val)
+
+
+def scalar(mesh, value):
+    """A fem.Constant (keep a reference: reading a temporary Constant is unsafe in 0.5.2)."""
+    return fem.Constant(mesh, PETSc.ScalarType(value))
+
+
+def create_matrix(form):
+    return fem_petsc.create_matrix(form)
+
+
+def create_vector(form):
+    return fem_petsc.create_vector(form)
+
+
+def assemble_matrix(A, form, bcs):
+    """Assemble into an existing matrix with Dirichlet rows/columns set to identity."""
+    A.zeroEntries()
+    fem_petsc.assemble_matrix(A, form, bcs=bcs)
+    A.assemble()
+    return A
+
+
+def assemble_residual(b, form, jacobian_form, bcs, x0, scale=-1.0):
+    """Residual vector with the Newton lifting: Dirichlet entries become scale*(x0 - g)."""
+    with b.localForm() as loc:
+        loc.set(0.0)
+    fem_petsc.assemble_vector(b, form)
+    if bcs:
+        fem_petsc.apply_lifting(b, [jacobian_form], bcs=[bcs], x0=[x0], scale=scale)
+    b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+    if bcs:
+        fem_petsc.set_bc(b, bcs, x0, scale)
+    return b
+
+
+def assemble_vector_plain(b, form):
+    """Assemble a vector without boundary conditions (for reactions)."""
+    with b.localForm() as loc:
+        loc.set(0.0)
+    fem_petsc.assemble_vector(b, form)
+    b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+    return b
+
+
+def lu_solver(A):
+    """Direct solver: MUMPS when PETSc was built with it, else PETSc's own LU."""
+    ksp = PETSc.KSP().create(A.getComm())
+    ksp.setOperators(A)
+    ksp.setType("preonly")
+    pc = ksp.getPC()
+    pc.setType("lu")
+    if PETSc.Sys.hasExternalPackage("mumps"):
+        pc.setFactorSolverType("mumps")
+    return ksp

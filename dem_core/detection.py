@@ -1,0 +1,384 @@
+"""Contact search: broad phase on a cell grid, narrow phase vertex-against-edge.
+
+``update_contacts`` is run by the driver when some block has moved more than half the search
+margin since the last search (``integrate.run_steps`` status 1):
+
+1. Broad phase: axis-aligned boxes grown by the margin, binned on a uniform grid; a pair is
+   reported once, by the cell holding the lower-left corner of the two boxes' overlap.
+2. Narrow phase: each vertex of A against B: the edge of B with the largest signed distance
+   (the nearest edge for a vertex inside B; at a corner tie, the edge facing A's wedge); a
+   candidate if that distance (or the distance to the edge's segment, near a corner) is below
+   the margin and the vertex's wedge faces the edge.
+3. Survivors keep their history: an intact bonded contact (its material has peak T or c
+   above the residual, or is glued) always survives; any other survives while its gap is below the margin and its point still projects onto
+   B's edge (within the margin).
+   A point of a shared edge that is not a vertex of A survives its bond only while the two
+   faces stay parallel (relative rotation below 0.2 rad).
+4. A candidate becomes a new, unbonded contact unless a contact of the same block pair with a
+   (anti)parallel normal already sits within the margin of it (so vertex-vertex touches and
+   shared edges are not doubled, while a corner rolling over an edge gets its own contact).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .contacts import INTACT, UNBONDED, Contacts
+
+__all__ = ["update_contacts", "compact", "block_containing", "world_vertices", "grid_pairs"]
+
+
+@njit(cache=True)
+def world_vertices(pos, rot, offsets, local):
+    out = np.empty_like(local)
+    for b in range(pos.shape[0]):
+        c, s = rot[b, 0], rot[b, 1]
+        for j in range(offsets[b], offsets[b + 1]):
+            out[j, 0] = pos[b, 0] + c * local[j, 0] - s * local[j, 1]
+            out[j, 1] = pos[b, 1] + s * local[j, 0] + c * local[j, 1]
+    return out
+
+
+@njit(cache=True)
+def _boxes(wv, offsets, active, margin):
+    nb = offsets.shape[0] - 1
+    lo = np.empty((nb, 2))
+    hi = np.empty((nb, 2))
+    for b in range(nb):
+        lo[b, 0] = lo[b, 1] = np.inf
+        hi[b, 0] = hi[b, 1] = -np.inf
+        if not active[b]:
+            continue
+        for j in range(offsets[b], offsets[b + 1]):
+            for d in range(2):
+                lo[b, d] = min(lo[b, d], wv[j, d] - margin)
+                hi[b, d] = max(hi[b, d], wv[j, d] + margin)
+    return lo, hi
+
+
+@njit(cache=True)
+def grid_pairs(lo, hi, active, cell):
+    """(np, 2) int64 pairs (i < j) of active blocks whose boxes overlap."""
+    nb = lo.shape[0]
+    x0, y0, x1, y1 = np.inf, np.inf, -np.inf, -np.inf
+    for b in range(nb):
+        if active[b]:
+            x0, y0 = min(x0, lo[b, 0]), min(y0, lo[b, 1])
+            x1, y1 = max(x1, hi[b, 0]), max(y1, hi[b, 1])
+    if x1 < x0:
+        return np.zeros((0, 2), np.int64)
+    while ((x1 - x0) / cell + 1) * ((y1 - y0) / cell + 1) > 4 * nb + 64:
+        cell *= 1.5                               # bound the number of cells
+    ncx = int((x1 - x0) / cell) + 1
+    ncy = int((y1 - y0) / cell) + 1
+    count = np.zeros(ncx * ncy + 1, np.int64)
+    for b in range(nb):
+        if active[b]:
+            for iy in range(int((lo[b, 1] - y0) / cell), int((hi[b, 1] - y0) / cell) + 1):
+                for ix in range(int((lo[b, 0] - x0) / cell), int((hi[b, 0] - x0) / cell) + 1):
+                    count[iy * ncx + ix + 1] += 1
+    start = np.cumsum(count)
+    fill = start.copy()
+    members = np.empty(start[-1], np.int64)
+    for b in range(nb):
+        if active[b]:
+            for iy in range(int((lo[b, 1] - y0) / cell), int((hi[b, 1] - y0) / cell) + 1):
+                for ix in range(int((lo[b, 0] - x0) / cell), int((hi[b, 0] - x0) / cell) + 1):
+                    members[fill[iy * ncx + ix]] = b
+                    fill[iy * ncx + ix] += 1
+    pairs = np.empty((4 * nb + 16, 2), np.int64)
+    n = 0
+    for c in range(ncx * ncy):
+        for p in range(start[c], start[c + 1]):
+            for q in range(p + 1, start[c + 1]):
+                i, j = members[p], members[q]
+                if lo[i, 0] > hi[j, 0] or lo[j, 0] > hi[i, 0] or lo[i, 1] > hi[j, 1] \
+                        or lo[j, 1] > hi[i, 1]:
+                    continue
+                cx = int((max(lo[i, 0], lo[j, 0]) - x0) / cell)
+                cy = int((max(lo[i, 1], lo[j, 1]) - y0) / cell)
+                if cy * ncx + cx != c:
+                    continue                      # reported by another cell
+                if n == pairs.shape[0]:
+                    bigger = np.empty((2 * n, 2), np.int64)
+                    bigger[:n] = pairs
+                    pairs = bigger
+                pairs[n, 0], pairs[n, 1] = min(i, j), max(i, j)
+                n += 1
+    return pairs[:n]
+
+
+@njit(cache=True)
+def _outward(wv, offsets, blk, e):
+    """Unit outward normal of edge e (first vertex index) of CCW block ``blk``."""
+    f = e + 1 if e + 1 < offsets[blk + 1] else offsets[blk]
+    ex, ey = wv[f, 0] - wv[e, 0], wv[f, 1] - wv[e, 1]
+    ln = math.hypot(ex, ey)
+    return ey / ln, -ex / ln
+
+
+@njit(cache=True)
+def _vertex_candidates(A, B, wv, offsets, lo, hi, margin, out, n):
+    """Append candidates (A, vertex, B, edge) of A's vertices near B to ``out``.
+
+    The edge is the one with the largest outward signed distance; where edges tie (a vertex at
+    or beside B's corner) the one that faces A's wedge best (most negative dot of B's normal
+    with the normals of A's two edges at the vertex). A vertex outside B whose wedge does not
+    face the edge (both dots >= -0.05: side by side) is no contact.
+    """
+    tie = 1e-3 * margin
+    for v in range(offsets[A], offsets[A + 1]):
+        x, y = wv[v, 0], wv[v, 1]
+        if x < lo[B, 0] or x > hi[B, 0] or y < lo[B, 1] or y > hi[B, 1]:
+            continue
+        best = -np.inf
+        for e in range(offsets[B], offsets[B + 1]):
+            ox, oy = _outward(wv, offsets, B, e)
+            best = max(best, (x - wv[e, 0]) * ox + (y - wv[e, 1]) * oy)
+        if best > margin:
+            continue
+        vp = v - 1 if v > offsets[A] else offsets[A + 1] - 1
+        a1x, a1y = _outward(wv, offsets, A, v)
+        a2x, a2y = _outward(wv, offsets, A, vp)
+        be, bf = -1, np.inf
+        for e in range(offsets[B], offsets[B + 1]):
+            ox, oy = _outward(wv, offsets, B, e)
+            if (x - wv[e, 0]) * ox + (y - wv[e, 1]) * oy >= best - tie:
+                facing = min(ox * a1x + oy * a1y, ox * a2x + oy * a2y)
+                if facing < bf:
+                    be, bf = e, facing
+        if best >= 0.0 and bf >= -0.05:
+            continue
+        f = be + 1 if be + 1 < offsets[B + 1] else offsets[B]
+        ex, ey = wv[f, 0] - wv[be, 0], wv[f, 1] - wv[be, 1]
+        ln2 = ex * ex + ey * ey
+        s = ((x - wv[be, 0]) * ex + (y - wv[be, 1]) * ey) / ln2
+        if s < 0.0 or s > 1.0:                    # near a corner: true distance to the segment
+            sc = min(max(s, 0.0), 1.0)
+            if math.hypot(x - wv[be, 0] - sc * ex, y - wv[be, 1] - sc * ey) > margin:
+                continue
+        if n == out.shape[0]:
+            return n, True
+        out[n, 0], out[n, 1], out[n, 2], out[n, 3] = A, v, B, be
+        n += 1
+    return n, False
+
+
+@njit(cache=True)
+def narrow_phase(pairs, wv, offsets, lo, hi, margin):
+    """(m, 4) int64 candidates [A, vertex of A, B, first vertex of B's edge]."""
+    out = np.empty((8 * pairs.shape[0] + 16, 4), np.int64)
+    n = 0
+    for p in range(pairs.shape[0]):
+        for A, B in ((pairs[p, 0], pairs[p, 1]), (pairs[p, 1], pairs[p, 0])):
+            full = True
+            while full:
+                n, full = _vertex_candidates(A, B, wv, offsets, lo, hi, margin, out, n)
+                if full:                          # grow and redo this block's vertices
+                    bigger = np.empty((2 * out.shape[0], 4), np.int64)
+                    bigger[:n] = out[:n]
+                    out = bigger
+                    while n > 0 and out[n - 1, 0] == A and out[n - 1, 2] == B:
+                        n -= 1
+    return out[:n]
+
+
+@njit(cache=True)
+def _fix_ring(edge_b, block_b, offsets):
+    """Index of the end vertex of each contact's edge (wraps within the block's ring)."""
+    out = np.empty(edge_b.shape[0], np.int64)
+    for k in range(edge_b.shape[0]):
+        e = edge_b[k]
+        if e < 0:
+            out[k] = -1
+        else:
+            b = block_b[k]
+            out[k] = e + 1 if e + 1 < offsets[b + 1] else offsets[b]
+    return out
+
+
+@njit(cache=True)
+def _accept(keys_kept, px, py, nx, ny, cand_keys, cx, cy, cnx, cny, merge):
+    """For sorted key arrays: accept candidates with no kept/accepted contact of the same pair
+    within ``merge`` whose normal is parallel or antiparallel to the candidate's (25 deg)."""
+    acc = np.zeros(cand_keys.shape[0], np.bool_)
+    i0 = 0
+    for j in range(cand_keys.shape[0]):
+        key = cand_keys[j]
+        while i0 < keys_kept.shape[0] and keys_kept[i0] < key:
+            i0 += 1
+        ok = True
+        i = i0
+        while i < keys_kept.shape[0] and keys_kept[i] == key:
+            if math.hypot(px[i] - cx[j], py[i] - cy[j]) <= merge and \
+                    abs(nx[i] * cnx[j] + ny[i] * cny[j]) > 0.9:
+                ok = False
+                break
+            i += 1
+        if ok:
+            jj = j - 1
+            while jj >= 0 and cand_keys[jj] == key:
+                if acc[jj] and math.hypot(cx[jj] - cx[j], cy[jj] - cy[j]) <= merge and \
+                        abs(cnx[jj] * cnx[j] + cny[jj] * cny[j]) > 0.9:
+                    ok = False
+                    break
+                jj -= 1
+        acc[j] = ok
+    return acc
+
+
+def compact(c: Contacts, rows, headroom: float = 1.5) -> Contacts:
+    """A Contacts holding only ``rows`` (in that order), with headroom."""
+    rows = np.asarray(rows, dtype=np.int64)
+    new = Contacts.empty(int(rows.size * headroom) + 64)
+    for name in Contacts.ARRAYS:
+        getattr(new, name)[:rows.size] = getattr(c, name)[rows]
+    new.n = int(rows.size)
+    return new
+
+
+def _new_rows(model, cand, wv):
+    """Local geometry, length and material of new (unbonded) contacts from candidates."""
+    p, s = model.props, model.state
+    off, local = p.vertex_offsets, p.local_vertices
+    A, v, B, e = cand[:, 0], cand[:, 1], cand[:, 2], cand[:, 3]
+    f = np.where(e + 1 < off[B + 1], e + 1, off[B])
+    el = local[f] - local[e]                       # B's edge in B's frame
+    ln = np.hypot(el[:, 0], el[:, 1])
+    t = el / ln[:, None]
+    normal_b = np.column_stack([-t[:, 1], t[:, 0]])   # inward normal = A -> B direction
+    th = s.theta[B]
+    c, sn = np.cos(th), np.sin(th)
+    rel = wv[v] - s.pos[B]
+    vb = np.column_stack([c * rel[:, 0] + sn * rel[:, 1], -sn * rel[:, 0] + c * rel[:, 1]])
+    point_b = local[e] + ((vb - local[e]) * t).sum(axis=1)[:, None] * t   # projection
+    # length: half of A's two edges at the vertex, projected on B's edge
+    prev = np.where(v - 1 >= off[A], v - 1, off[A + 1] - 1)
+    nxt = np.where(v + 1 < off[A + 1], v + 1, off[A])
+    ta = np.column_stack([c * t[:, 0] - sn * t[:, 1], sn * t[:, 0] + c * t[:, 1]])  # world
+    e1, e2 = wv[nxt] - wv[v], wv[prev] - wv[v]
+    l1, l2 = np.hypot(*e1.T), np.hypot(*e2.T)
+    L = 0.5 * (np.abs((e1 * ta).sum(axis=1)) + np.abs((e2 * ta).sum(axis=1)))
+    L = np.minimum(np.maximum(L, 0.05 * (l1 + l2)), ln)
+    return point_b, normal_b, L
+
+
+def update_contacts(model, margin):
+    """Survivors (with history) then new unbonded contacts (the last ``n_new`` rows, stiffness
+    still to be set); returns (Contacts, n_new)."""
+    p, s, c = model.props, model.state, model.contacts
+    wv = world_vertices(s.pos, model._rot, p.vertex_offsets, p.local_vertices)
+    lo, hi = _boxes(wv, p.vertex_offsets, p.active, margin)
+    cell = 2.0 * float(np.median(p.radius[p.active > 0])) + 2 * margin if p.active.any() else 1.0
+    pairs = grid_pairs(lo, hi, p.active, cell)
+    cand = narrow_phase(pairs, wv, p.vertex_offsets, lo, hi, margin)
+    end = _fix_ring(c.edge_b[:c.n], c.block_b[:c.n], p.vertex_offsets)
+    keep, px, py, qx, qy = _survives_kernel(
+        c.n, c.block_a, c.block_b, c.vertex_a, c.point_a, c.point_b, c.normal_b, c.edge_b, end,
+        c.broken, c.material, model.table.bonded(), p.active, s.pos, s.theta, model._rot, wv,
+        margin)
+    kept = np.flatnonzero(keep)
+    nb = model.n_blocks
+    keys = np.minimum(c.block_a[kept], c.block_b[kept]).astype(np.int64) * nb + \
+        np.maximum(c.block_a[kept], c.block_b[kept])
+    order = np.argsort(keys, kind="stable")
+    kept, keys = kept[order], keys[order]
+    ckeys = np.minimum(cand[:, 0], cand[:, 2]) * nb + np.maximum(cand[:, 0], cand[:, 2])
+    corder = np.argsort(ckeys, kind="stable")
+    cand, ckeys = cand[corder], ckeys[corder]
+    # candidate normals: B's edge direction rotated (inward normal of B's edge, world frame)
+    B, e = cand[:, 2], cand[:, 3]
+    f = np.where(e + 1 < p.vertex_offsets[B + 1], e + 1, p.vertex_offsets[B])
+    ed = wv[f] - wv[e]
+    ed /= np.hypot(ed[:, 0], ed[:, 1])[:, None]
+    acc = _accept(keys, px[kept], py[kept], qx[kept], qy[kept], ckeys, wv[cand[:, 1], 0],
+                  wv[cand[:, 1], 1], -ed[:, 1], ed[:, 0], margin)
+    cand = cand[acc]
+    m = cand.shape[0]
+    new = compact(c, kept)
+    if new.capacity < new.n + m:
+        new = new.with_capacity(int(1.5 * (new.n + m)) + 64)
+    if m:
+        point_b, normal_b, L = _new_rows(model, cand, wv)
+        r = slice(new.n, new.n + m)
+        new.block_a[r], new.block_b[r] = cand[:, 0], cand[:, 2]
+        new.vertex_a[r], new.edge_b[r] = cand[:, 1], cand[:, 3]
+        new.point_a[r] = p.local_vertices[cand[:, 1]]
+        new.point_b[r] = point_b
+        new.normal_b[r] = normal_b
+        new.length[r] = L
+        new.material[r] = model.table.names.index(model.new_contact_material)
+        new.broken[r] = UNBONDED
+        new.slipping[r] = 0
+        for name in ("sn", "ts", "us", "up", "un"):
+            getattr(new, name)[r] = 0.0
+        new.n += m
+    return new, m
+
+
+def sort_for_locality(c: Contacts) -> Contacts:
+    """Contacts ordered by their lower block index: neighbours in memory touch nearby blocks."""
+    order = np.argsort(np.minimum(c.block_a[:c.n], c.block_b[:c.n]), kind="stable")
+    return compact(c, order)
+
+
+@njit(cache=True)
+def _survives_kernel(nc, block_a, block_b, vertex_a, point_a, point_b, normal_b, edge_b,
+                     edge_end, broken, material, bonded, active, pos, theta, rot, wv, margin):
+    keep = np.zeros(nc, np.bool_)
+    px = np.empty(nc)
+    py = np.empty(nc)
+    qx = np.empty(nc)
+    qy = np.empty(nc)
+    for k in range(nc):
+        a, b = block_a[k], block_b[k]
+        ca, sa, cb, sb = rot[a, 0], rot[a, 1], rot[b, 0], rot[b, 1]
+        xa = pos[a, 0] + ca * point_a[k, 0] - sa * point_a[k, 1]
+        ya = pos[a, 1] + sa * point_a[k, 0] + ca * point_a[k, 1]
+        nx = cb * normal_b[k, 0] - sb * normal_b[k, 1]
+        ny = sb * normal_b[k, 0] + cb * normal_b[k, 1]
+        px[k], py[k], qx[k], qy[k] = xa, ya, nx, ny
+        if not (active[a] and active[b]):
+            continue
+        if broken[k] == INTACT and bonded[material[k]]:
+            keep[k] = True
+            continue
+        # a point of a shared edge that is not a vertex of A (vertex_a < 0) is a contact only
+        # while the two faces stay parallel (initial contacts: all blocks start at theta = 0)
+        if vertex_a[k] < 0 and abs(theta[a] - theta[b]) > 0.2:
+            continue
+        xb = pos[b, 0] + cb * point_b[k, 0] - sb * point_b[k, 1]
+        yb = pos[b, 1] + sb * point_b[k, 0] + cb * point_b[k, 1]
+        if (xb - xa) * nx + (yb - ya) * ny > margin:
+            continue
+        e, f = edge_b[k], edge_end[k]
+        if e >= 0:
+            ex, ey = wv[f, 0] - wv[e, 0], wv[f, 1] - wv[e, 1]
+            ln = math.hypot(ex, ey)
+            proj = ((xa - wv[e, 0]) * ex + (ya - wv[e, 1]) * ey) / ln
+            if proj < -margin or proj > ln + margin:
+                continue
+        keep[k] = True
+    return keep, px, py, qx, qy
+
+
+def block_containing(props, pos, rot, xy) -> int:
+    """The active block whose polygon contains ``xy`` (else the nearest centroid)."""
+    d = np.hypot(*(pos - xy).T)
+    off, local = props.vertex_offsets, props.local_vertices
+    for b in np.argsort(d):
+        if d[b] > props.radius[b] * 1.0001 and d[b] > d.min() + 2 * props.radius.max():
+            break
+        if not props.active[b]:
+            continue
+        c, s = rot[b]
+        v = local[off[b]:off[b + 1]]
+        w = pos[b] + np.column_stack([c * v[:, 0] - s * v[:, 1], s * v[:, 0] + c * v[:, 1]])
+        e = np.roll(w, -1, axis=0) - w
+        r = xy - w
+        if np.all(e[:, 0] * r[:, 1] - e[:, 1] * r[:, 0] >= -1e-12 * props.radius[b] ** 2):
+            return int(b)
+    act = np.flatnonzero(props.active > 0)
+    return int(act[np.argmin(d[act])])

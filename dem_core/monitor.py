@@ -1,0 +1,127 @@
+"""Measures of a running model: unbalanced-force ratio, energies, histories, the solve verdict.
+
+Unbalanced-force ratio (dimensionless), over the free (not prescribed) velocity components of
+active blocks::
+
+    ratio = sum_i |f_unbalanced,i| / sum_i (|m_i g| + |applied_i| + sum_contacts of i |F_c|)
+
+with f the net force of the last step before damping. It is ~1 for a block in free fall and
+falls towards 0 as the model comes to equilibrium (Itasca's "mean ratio" in spirit).
+
+Verdict of ``Model.solve`` (documented test, see ``verdict``): "equilibrium" when the ratio
+reaches the target; "failed" when a set failure displacement is exceeded, or at the step limit
+when the largest block displacement is still growing without slowing down (the increment over
+the last fifth of the run is at least ``0.8`` of the increment over the fifth before, and larger
+than ``creep``); otherwise "moving".
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from numba import njit
+
+__all__ = ["unbalanced_ratio", "kinetic_energy", "strain_energy", "History", "verdict",
+           "SolveResult"]
+
+
+@njit(cache=True)
+def unbalanced_ratio(force, mass, gravity, load, fixity, active, nc, block_a, block_b,
+                     length, sn, ts):
+    nb = mass.shape[0]
+    scale = np.zeros(nb)
+    for k in range(nc):
+        fc = length[k] * math.hypot(sn[k], ts[k])
+        scale[block_a[k]] += fc
+        scale[block_b[k]] += fc
+    g = math.hypot(gravity[0], gravity[1])
+    num = 0.0
+    den = 0.0
+    for i in range(nb):
+        if not active[i] or (fixity[i] & 3) == 3:
+            continue
+        fx = 0.0 if fixity[i] & 1 else force[i, 0]
+        fy = 0.0 if fixity[i] & 2 else force[i, 1]
+        num += math.hypot(fx, fy)
+        den += scale[i] + mass[i] * g + math.hypot(load[i, 0], load[i, 1])
+    if den == 0.0:
+        return 0.0
+    return num / den
+
+
+@njit(cache=True)
+def kinetic_energy(vel, omega, mass, inertia, active):
+    """Sum of 1/2 m v^2 + 1/2 I omega^2 with real masses, J/m (half-step velocities)."""
+    e = 0.0
+    for i in range(mass.shape[0]):
+        if active[i]:
+            e += 0.5 * (mass[i] * (vel[i, 0] ** 2 + vel[i, 1] ** 2) + inertia[i] * omega[i] ** 2)
+    return e
+
+
+@njit(cache=True)
+def strain_energy(nc, length, kn, ks, sn, ts):
+    """Elastic energy stored in the contact springs, J/m: sum L (sn^2/kn + ts^2/ks) / 2."""
+    e = 0.0
+    for k in range(nc):
+        e += 0.5 * length[k] * (sn[k] ** 2 / kn[k] + ts[k] ** 2 / ks[k])
+    return e
+
+
+@dataclass
+class History:
+    """Histories recorded every ``every`` steps: one list per named column."""
+
+    every: int = 100
+    columns: dict = field(default_factory=dict)
+
+    def record(self, row: dict):
+        for k, v in row.items():
+            self.columns.setdefault(k, []).append(v)
+
+    def as_arrays(self) -> dict:
+        return {k: np.asarray(v) for k, v in self.columns.items()}
+
+
+@dataclass
+class SolveResult:
+    """What ``Model.solve`` found.
+
+    verdict : "equilibrium", "moving" or "failed".
+    steps : steps taken; ratio : the final unbalanced ratio; max_displacement : m, the largest
+    block displacement during the solve; reason : one line that explains the verdict.
+    """
+
+    verdict: str
+    steps: int
+    ratio: float
+    max_displacement: float
+    reason: str
+
+    def __bool__(self):
+        return self.verdict == "equilibrium"
+
+
+def verdict(steps, displacements, creep, slow_down=0.8):
+    """'failed' if the displacement kept growing over the last two fifths (module docstring).
+
+    Parameters
+    ----------
+    steps, displacements : sequences of the step count and the largest block displacement (m)
+        at each check of the solve.
+    creep : float, m. An increment below this is not movement.
+    """
+    s = np.asarray(steps, dtype=float)
+    d = np.asarray(displacements, dtype=float)
+    if s.size < 3:
+        return "moving", "too few checks to judge"
+    s_end = s[-1]
+    d1 = np.interp(s_end * 0.6, s, d)
+    d2 = np.interp(s_end * 0.8, s, d)
+    inc1, inc2 = d2 - d1, d[-1] - d2
+    if inc2 > creep and inc2 >= slow_down * inc1:
+        return "failed", (f"displacement still growing: {inc2:.3g} m over the last fifth of the "
+                          f"steps vs {inc1:.3g} m over the fifth before")
+    return "moving", (f"not in equilibrium, but slowing: {inc2:.3g} m over the last fifth vs "
+                      f"{inc1:.3g} m before")

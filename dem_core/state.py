@@ -1,0 +1,118 @@
+"""Block properties (constant within a stage) and block state (changes every step).
+
+Blocks are rigid convex polygons. A block's pose is its centroid ``pos`` and rotation ``theta``
+(counter-clockwise, rad); a body point with local coordinates ``r`` (relative to the centroid at
+theta = 0) is at ``pos + R(theta) r``. Masses are per unit thickness (plane strain): kg/m, and
+moments of inertia kg m^2/m.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["BlockProps", "BlockState", "FIX_X", "FIX_Y", "FIX_ROT", "polygon_inertia"]
+
+# Bits of BlockProps.fixity: a set bit means that velocity component is prescribed.
+FIX_X, FIX_Y, FIX_ROT = 1, 2, 4
+
+
+def polygon_inertia(local_vertices: np.ndarray) -> float:
+    """Polar second moment of area about the centroid, m^4 (vertices relative to the centroid)."""
+    x, y = local_vertices[:, 0], local_vertices[:, 1]
+    xn, yn = np.roll(x, -1), np.roll(y, -1)
+    cross = x * yn - xn * y
+    return float((cross * (x * x + x * xn + xn * xn + y * y + y * yn + yn * yn)).sum() / 12.0)
+
+
+@dataclass
+class BlockProps:
+    """What does not change during a stage (nb blocks, nv vertices).
+
+    Attributes
+    ----------
+    vertex_offsets : (nb + 1,) int64. CSR into ``local_vertices``.
+    local_vertices : (nv, 2) float64, m. CCW, relative to the centroid at theta = 0.
+    mass, inertia : (nb,) float64. Real mass kg/m and polar moment kg m^2/m (gravity uses these).
+    inv_mass, inv_inertia : (nb,) float64. Inverse *inertial* mass and moment (mass scaling
+        may make these smaller than 1/mass; a prescribed block's values are unused).
+    radius : (nb,) float64, m. Largest centroid-vertex distance.
+    fixity : (nb,) int8. Bits FIX_X, FIX_Y, FIX_ROT: that velocity component is prescribed.
+    velocity_bc : (nb, 3) float64. Prescribed (vx, vy, omega) in m/s, rad/s.
+    load : (nb, 3) float64. Applied constant force (N/m) and moment (N m/m).
+    active : (nb,) int8. 0 once a block has been removed (excavated).
+    """
+
+    vertex_offsets: np.ndarray
+    local_vertices: np.ndarray
+    mass: np.ndarray
+    inertia: np.ndarray
+    inv_mass: np.ndarray
+    inv_inertia: np.ndarray
+    radius: np.ndarray
+    fixity: np.ndarray
+    velocity_bc: np.ndarray
+    load: np.ndarray
+    active: np.ndarray
+
+    @classmethod
+    def from_block_system(cls, bs, density) -> "BlockProps":
+        """Masses from ``density`` (kg/m^3, scalar or (nb,)) and the polygons of ``bs``."""
+        nb = bs.n_blocks
+        rho = np.broadcast_to(np.asarray(density, dtype=np.float64), (nb,))
+        if not np.all(np.isfinite(rho)) or np.any(rho <= 0):
+            bad = int(np.flatnonzero(~(np.isfinite(rho) & (rho > 0)))[0])
+            raise ValueError(f"density must be finite and > 0 kg/m^3; block {bad} has {rho[bad]!r}")
+        off = np.asarray(bs.vertex_offsets, dtype=np.int64)
+        local = np.empty_like(bs.vertices, dtype=np.float64)
+        inertia_area = np.empty(nb)
+        radius = np.empty(nb)
+        for b in range(nb):
+            v = bs.vertices[off[b]:off[b + 1]] - bs.centroid[b]
+            local[off[b]:off[b + 1]] = v
+            inertia_area[b] = polygon_inertia(v)
+            radius[b] = np.sqrt((v * v).sum(axis=1).max())
+        if np.any(bs.area <= 0) or not np.all(np.isfinite(local)):
+            bad = int(np.flatnonzero(bs.area <= 0)[0]) if np.any(bs.area <= 0) else -1
+            raise ValueError(f"block {bad} has non-positive area or non-finite vertices")
+        mass = rho * bs.area
+        inertia = rho * inertia_area
+        return cls(vertex_offsets=off, local_vertices=local, mass=mass, inertia=inertia,
+                   inv_mass=1.0 / mass, inv_inertia=1.0 / inertia, radius=radius,
+                   fixity=np.zeros(nb, np.int8), velocity_bc=np.zeros((nb, 3)),
+                   load=np.zeros((nb, 3)), active=np.ones(nb, np.int8))
+
+
+@dataclass
+class BlockState:
+    """What changes every step.
+
+    Attributes
+    ----------
+    pos : (nb, 2) float64, m. Centroid.
+    theta : (nb,) float64, rad. CCW rotation from the initial orientation.
+    vel : (nb, 2) float64, m/s. Centroid velocity at the last half step (leapfrog).
+    omega : (nb,) float64, rad/s. Angular velocity at the last half step.
+    force : (nb, 3) float64. Unbalanced force (N/m) and moment (N m/m) of the last step,
+        before damping.
+    pos0 : (nb, 2), theta0 : (nb,). Pose at the start (displacements are measured from here).
+    pos_search : (nb, 2), theta_search : (nb,). Pose at the last contact search.
+    """
+
+    pos: np.ndarray
+    theta: np.ndarray
+    vel: np.ndarray
+    omega: np.ndarray
+    force: np.ndarray
+    pos0: np.ndarray
+    theta0: np.ndarray
+    pos_search: np.ndarray
+    theta_search: np.ndarray
+
+    @classmethod
+    def at_rest(cls, centroid) -> "BlockState":
+        c = np.array(centroid, dtype=np.float64)
+        nb = c.shape[0]
+        return cls(pos=c.copy(), theta=np.zeros(nb), vel=np.zeros((nb, 2)), omega=np.zeros(nb),
+                   force=np.zeros((nb, 3)), pos0=c.copy(), theta0=np.zeros(nb),
+                   pos_search=c.copy(), theta_search=np.zeros(nb))
