@@ -35,8 +35,8 @@ def add_contact_forces(nc, block_a, block_b, point_a, point_b, normal_b, length,
         ny = sb * normal_b[k, 0] + cb * normal_b[k, 1]
         u_n = dx * nx + dy * ny
         u_s = dy * nx - dx * ny
-        s_n, t_s, u_p, event = coulomb_law(u_n, u_s, up[k], kn[k], ks[k],
-                                           strength[material[k]], broken[k])
+        s_n, t_s, u_p, event = coulomb_law(u_n, u_s, up[k], kn[k], ks[k], strength,
+                                           material[k], broken[k])
         sn[k] = s_n
         ts[k] = t_s
         un[k] = u_n

@@ -23,7 +23,7 @@ __all__ = ["coulomb_law"]
 
 
 @njit(cache=True, inline="always")
-def coulomb_law(u_n, u_s, u_p, kn, ks, strength_row, broken):
+def coulomb_law(u_n, u_s, u_p, kn, ks, strength, m, broken):
     """One contact: returns (sn, ts, u_p, event).
 
     event: 0 elastic, 1 failed in tension now, 2 failed in shear now (slipping), 3 slipping
@@ -33,19 +33,19 @@ def coulomb_law(u_n, u_s, u_p, kn, ks, strength_row, broken):
     ----------
     u_n, u_s, u_p : float, m. Opening, total and plastic shear displacement.
     kn, ks : float, Pa/m.
-    strength_row : (7,) float64 view of the material's strength row.
+    strength : (nm, 7) float64 table; m : the contact's material row.
     broken : int. 0 intact (peak strength), otherwise residual strength.
     """
     sn = -kn * u_n
     ts = -ks * (u_s - u_p)
-    if strength_row[6] == 0.0:                     # glued: elastic, no limit
+    if strength[m, 6] == 0.0:                     # glued: elastic, no limit
         return sn, ts, u_p, 0
     if broken == 0:
-        T, c, tanphi = strength_row[0], strength_row[1], strength_row[2]
+        T, c, tanphi = strength[m, 0], strength[m, 1], strength[m, 2]
         # only a bond (strength above residual) can fail; a zero-strength joint just slips/opens
-        bond = T > strength_row[3] or c > strength_row[4]
+        bond = T > strength[m, 3] or c > strength[m, 4]
     else:
-        T, c, tanphi = strength_row[3], strength_row[4], strength_row[5]
+        T, c, tanphi = strength[m, 3], strength[m, 4], strength[m, 5]
         bond = False
     if sn < -T:                                    # tension cut-off (separation)
         return 0.0, 0.0, u_s, 1 if bond else 4

@@ -20,6 +20,8 @@ from __future__ import annotations
 import numpy as np
 import shapely
 from scipy.spatial import Delaunay
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
 SQRT3 = np.sqrt(3.0)
@@ -30,6 +32,7 @@ SQRT3 = np.sqrt(3.0)
 CELL_AREA = 2.40
 ROW_OFFSET = 0.75       # seed row distance from a boundary or joint, in units of h
 ROW_SPACING = SQRT3     # seed spacing along a boundary or joint, in units of h
+COINCIDENT = 1e-12      # Voronoi vertices closer than this (x the point extent) are one vertex
 
 
 def _line_seeds(coords, vs, sides) -> np.ndarray:
@@ -165,10 +168,35 @@ def cell_polygons(pts, s, cc, idx) -> np.ndarray:
     rank = np.full(len(pts), -1)
     rank[idx] = np.arange(len(idx))
     owner = rank[owner_pt]
-    xy = cc[tri]
+    utri, inv = np.unique(tri, return_inverse=True)
+    xy = _merge_coincident(cc[utri], COINCIDENT * np.ptp(pts, axis=0).max())[inv.ravel()]
     rel = xy - pts[owner_pt]
     order = np.lexsort((np.arctan2(rel[:, 1], rel[:, 0]), owner))
-    return shapely.polygons(shapely.linearrings(xy[order], indices=owner[order]))
+    xy, owner = xy[order], owner[order]
+    # a merged vertex appears once per triangle that has it: keep one (same point, same angle,
+    # so the copies are consecutive)
+    dup = np.r_[False, (owner[1:] == owner[:-1]) & np.all(xy[1:] == xy[:-1], axis=1)]
+    return shapely.polygons(shapely.linearrings(xy[~dup], indices=owner[~dup]))
+
+
+def _merge_coincident(xy, tol) -> np.ndarray:
+    """Points closer than ``tol`` replaced by one of them (exactly equal coordinates).
+
+    Co-circular seeds (every mirrored seed pair next to another across a joint, a regular
+    seed row) give several Delaunay triangles with the same circumcentre, which round-off
+    scatters by ~1e-17 m. Left apart, two such vertices of a cell have angles around its seed
+    that differ by round-off only, so sorting by angle may reverse them: the ring gets a
+    zero-width spike, is invalid, and GEOS then misjudges its orientation (seen with a
+    horizontal joint, where the spike is the cell's highest point).
+    """
+    pairs = cKDTree(xy).query_pairs(tol, output_type="ndarray")
+    if len(pairs) == 0:
+        return xy
+    g = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(len(xy),) * 2)
+    _, lab = connected_components(g, directed=False)
+    first = np.full(lab.max() + 1, len(xy))
+    np.minimum.at(first, lab, np.arange(len(xy)))
+    return xy[first[lab]]
 
 
 def _boundary_cells(pts, s, cc, poly, ring_xy) -> np.ndarray:

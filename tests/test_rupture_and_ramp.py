@@ -1,0 +1,75 @@
+"""Rupture-surface extraction and the centrifuge g-ramp, against geometry and a closed form."""
+import math
+
+import numpy as np
+import pytest
+
+from dem_core.materials import Material
+from dem_core.model import Model
+from dem_core.gravity_ramp import raise_gravity
+from dem_core.rupture import angle_to_joint_normal, depth_from_face, find_rupture
+from dem_core.simple_blocks import brick_grid
+
+
+def _line_of_cracks(start, angle_deg, length, spacing, rng, noise):
+    t = np.arange(0.0, length, spacing)
+    d = np.array([-math.cos(math.radians(angle_deg)), math.sin(math.radians(angle_deg))])
+    p = np.asarray(start) + t[:, None] * d + rng.normal(0, noise, (t.size, 2))
+    return p
+
+
+def test_rupture_found_and_its_angle_to_the_joint_normal():
+    rng = np.random.default_rng(3)
+    # a rupture from the toe (0.3, 0.05) into the slope (towards -x), rising 25 deg
+    line = _line_of_cracks((0.3, 0.05), 25.0, 0.2, 0.004, rng, 0.001)
+    scatter = rng.uniform([0.0, 0.25], [0.1, 0.35], (15, 2))   # isolated cracks elsewhere
+    xy = np.vstack([scatter, line])
+    face = ((0.3, 0.05), (0.45, 0.35))
+    r = find_rupture(xy[:, 0], xy[:, 1], link_distance=0.012, face=face)
+    assert r is not None and r.n_cracks == len(line)
+    assert r.polyline[0, 0] > r.polyline[-1, 0]          # ordered from the face inwards
+    assert r.length == pytest.approx(0.2, rel=0.1)
+    # joints dipping 80 into the slope: normal rises 10 deg inwards -> 15 deg above it
+    assert angle_to_joint_normal(r.direction, 80.0, "left") == pytest.approx(15.0, abs=1.0)
+    assert depth_from_face(r.polyline, face) > 0.1
+
+
+def test_no_rupture_from_scattered_cracks():
+    rng = np.random.default_rng(4)
+    xy = rng.uniform(0, 1, (30, 2))
+    assert find_rupture(xy[:, 0], xy[:, 1], link_distance=0.01, min_cracks=5) is None
+    with pytest.raises(ValueError, match="link_distance"):
+        find_rupture(xy[:, 0], xy[:, 1], link_distance=0.0)
+
+
+def test_gravity_ramp_breaks_a_hanging_block_at_the_closed_form_g_level():
+    """A block hangs from a fixed block by one bonded edge of tensile strength T.
+
+    Tension on the edge = rho h g N, so it breaks at N = T / (rho h g) (rigid blocks, the
+    shear and bending are zero by symmetry).
+    """
+    h, w, rho, tensile = 0.1, 0.1, 2500.0, 50e3
+    bs = brick_grid(1, 2, w, h)
+    mat = Material(kn=1e10, ks=1e10, tensile_strength=tensile, cohesion=1e6, friction=30)
+    model = Model(bs, {"flaw:*": mat}, density=rho, damping=0.8)
+    model.fix("top")
+    model.add_history_point("tip", (0.05, 0.0))
+    n_crit = tensile / (rho * h * 9.81)                       # 20.4 g
+    rec = raise_gravity(model, np.arange(2.0, 40.0, 2.0), ratio=1e-5, max_steps=4000,
+                        failure_displacement=0.01)
+    assert rec.failure_g is not None
+    assert rec.last_stable_g < n_crit <= rec.failure_g
+    assert rec.failure_g - rec.last_stable_g == pytest.approx(2.0)
+    assert rec.verdict[-1] == "failed" and all(v == "equilibrium" for v in rec.verdict[:-1])
+    # before failure the tip settles as the spring says: u = rho h g N / kn
+    i = rec.g.index(rec.last_stable_g)
+    assert -rec.point_uy["tip"][i] == pytest.approx(rho * h * 9.81 * rec.g[i] / 1e10, rel=0.02)
+
+
+def test_gravity_ramp_rejects_bad_levels():
+    bs = brick_grid(1, 2, 0.1, 0.1)
+    model = Model(bs, {"flaw:*": Material(kn=1e10, ks=1e10)}, density=2500.0)
+    with pytest.raises(ValueError, match="increase"):
+        raise_gravity(model, [5.0, 3.0])
+    with pytest.raises(ValueError, match="g_levels"):
+        raise_gravity(model, [float("nan")])
