@@ -16,7 +16,7 @@ from petsc4py import PETSc
 __all__ = ["model_to_mesh", "quadrature_space", "quadrature_points", "quadrature_measure",
            "compile_expression", "eval_expression", "block_index", "local_cells",
            "cells_containing", "create_matrix", "create_vector", "assemble_matrix",
-           "assemble_residual", "lu_solver", "facet_tags", "scalar"]
+           "assemble_residual", "assemble_vector_plain", "lu_solver", "facet_tags", "scalar"]
 
 
 def model_to_mesh(model, gdim=2):
@@ -61,7 +61,8 @@ def local_cells(mesh):
 
 def block_index(space, num_cells):
     """Block (point) index in a quadrature Function for each (cell, point), cell-major."""
-    return np.asarray(space.dofmap.list.array, dtype=np.int64)[: num_cells * _points_per_cell(space)]
+    count = num_cells * _points_per_cell(space)
+    return np.asarray(space.dofmap.list.array, dtype=np.int64)[:count]
 
 
 def _points_per_cell(space):

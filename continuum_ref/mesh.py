@@ -252,13 +252,20 @@ def build_mesh(regions, h, size_field=None, groups=None, weak_bands=(), points=N
 def mesh_from_geometry(spec, h, size_field=None, weak_bands=(), points=None):
     """Mesh a dem_core GeometrySpec (duck-typed) with the same regions and groups.
 
-    Reads `spec.regions` (each with .name, .exterior, .holes and optionally .groups) and
-    `spec.groups` (dict name -> polygon). Joint sets are not meshed: the continuum smears them
+    Reads `spec.regions` (each with .name, .exterior, .holes and optionally .groups, names that
+    all of the region's cells belong to) and `spec.groups` (dict name -> polygon). Joint sets
+    are not meshed: the continuum smears them
     into the rock-mass properties; pass `weak_bands` for faults that should be explicit.
     """
-    regions = [PolygonRegion(r.name, [tuple(p) for p in r.exterior],
-                             [[tuple(p) for p in hole] for hole in (getattr(r, "holes", None) or [])])
-               for r in spec.regions]
+    regions = []
+    for r in spec.regions:
+        holes = [[tuple(p) for p in hole] for hole in (getattr(r, "holes", None) or [])]
+        regions.append(PolygonRegion(r.name, [tuple(p) for p in r.exterior], holes))
     groups = dict(getattr(spec, "groups", None) or {})
-    return build_mesh(regions, h, size_field=size_field, groups=groups, weak_bands=weak_bands,
+    data = build_mesh(regions, h, size_field=size_field, groups=groups, weak_bands=weak_bands,
                       points=points)
+    for r in spec.regions:                 # Region.groups: names all its cells belong to
+        for g in getattr(r, "groups", None) or ():
+            data.tags.setdefault(g, [])
+            data.tags[g] = sorted(set(data.tags[g]) | set(data.tags[r.name]))
+    return data

@@ -12,7 +12,8 @@ lower end is the value.
 
 Strength reduction convention (Mohr-Coulomb): c/F, tan(phi)/F, tan(psi)/F and tensile
 strength/F (see `MohrCoulomb.reduced`); elastic materials are not reduced. Hoek-Brown has no
-agreed reduction: convert it to equivalent Mohr-Coulomb first (`hoek_brown.equivalent_mohr_coulomb`).
+agreed reduction: convert it to equivalent Mohr-Coulomb first
+(`hoek_brown.equivalent_mohr_coulomb`).
 """
 import time
 from dataclasses import dataclass

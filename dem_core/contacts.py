@@ -19,7 +19,7 @@ vertex of A at p0 against B's edge, and the vertex of B at p1 against A's edge.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 
 import numpy as np
 from numba import njit

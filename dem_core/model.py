@@ -18,9 +18,9 @@ import numpy as np
 
 from . import detection, forces, integrate, monitor
 from .blocks import BlockSystem
-from .contacts import INTACT, UNBONDED, Contacts, initial_contacts
+from .contacts import initial_contacts
 from .elastic import series_stiffness
-from .materials import Material, material_table
+from .materials import material_table
 from .state import FIX_ROT, FIX_X, FIX_Y, BlockProps, BlockState
 
 __all__ = ["Model", "ModelUnstable"]
@@ -110,7 +110,7 @@ class Model:
         self.servo_groups = []                 # (blocks, params row)
         self._rot = np.zeros((nb, 2))
         integrate.update_rotation(self.state.theta, self._rot)
-        self.contacts = initial_contacts(blocks)
+        self.contacts = detection.sort_for_locality(initial_contacts(blocks))
         self._set_contact_stiffness(0, self.contacts.n)
         nbonded = self.contacts.n
         self.cracks = np.zeros((nbonded + 16, 7))

@@ -86,6 +86,9 @@ def test_footing_stresses_are_on_the_yield_surface(footing):
     assert np.max(np.abs(f[plastic])) < 1e-8 * mat.cohesion
     indicator = model.yield_indicator()
     assert indicator["shear"].max() == 1.0 and indicator["tension"].max() == 0.0
+    from continuum_ref.plot import plot_yield
+    ax = plot_yield(model)
+    assert len(ax.collections) == 1
 
 
 @pytest.mark.parametrize("law", ["mohr_coulomb", "hoek_brown"])
@@ -195,6 +198,18 @@ def test_slope_described_once_meshes_to_its_area():
     assert cells["rock"] == md.mesh.topology.index_map(2).size_local
     with pytest.raises(KeyError, match="nope"):
         md.cells("nope")
+
+
+def test_dem_core_geometry_spec_meshes_to_its_area():
+    geometry = pytest.importorskip("dem_core.geometry")
+    spec = geometry.GeometrySpec(
+        regions=[geometry.Region("rock", [(0, 0), (2, 0), (2, 1), (1, 1), (0, 0.5)],
+                                 groups=["stage0"]),
+                 geometry.Region("cap", [(0, 0.5), (1, 1), (0, 1)])],
+        groups={"toe": _rectangle(0.3, 0.2, x0=1.0, y0=0.1)})
+    md = mesh_from_geometry(spec, h=0.1)
+    assert abs(md.mesh_area() - 2.0 * 1.0) < 1e-6 * 2.0
+    assert md.tags["stage0"] == md.tags["rock"] and md.tags["toe"]
 
 
 def test_bad_geometry_and_points_are_rejected():

@@ -65,7 +65,8 @@ def test_associated_return_is_the_closest_point_in_the_energy_norm(name):
         s_tr = trial[p] / scale
         cons = [{"type": "ineq", "fun": surface},
                 {"type": "ineq", "fun": lambda x: np.array([x[0] - x[1], x[1] - x[2]])}]
-        res = minimize(lambda x: (x - s_tr) @ Dinv @ (x - s_tr) * mat.E, got[p] / scale * 0.9 + 0.1 * s_tr,
+        start = got[p] / scale * 0.9 + 0.1 * s_tr
+        res = minimize(lambda x: (x - s_tr) @ Dinv @ (x - s_tr) * mat.E, start,
                        constraints=cons, method="SLSQP", options={"ftol": 1e-14, "maxiter": 500})
         ours = (got[p] / scale - s_tr) @ Dinv @ (got[p] / scale - s_tr) * mat.E
         feasible = rm.yield_function(res.x[None] * scale, mat)[0] <= 1e-8 * scale

@@ -31,15 +31,22 @@ from .slivers import remove_slivers
 from .spec import GeometrySpec
 
 
-def _joint_bounded_blocks(poly, traces) -> tuple:
-    """Cut a region without Voronoi along its full joint traces; returns (pieces, joints, n_dangling)."""
+def _joint_bounded_blocks(poly, traces, tol) -> tuple:
+    """Cut a region without Voronoi along its full joint traces; returns (pieces, joints, n_dangling).
+
+    Each trace is cut into its joint and bridge parts (so both get their own edges); cut points
+    closer than ``tol`` (m) are one point (a joint ending at the region boundary up to round-off
+    would otherwise leave a zero-length bridge).
+    """
     lines, joints = [], []
     for t in traces:
         line = LineString(t.coords)
         cuts = np.unique(np.r_[0.0, t.intervals.ravel(), line.length])
+        cuts = cuts[np.r_[True, np.diff(cuts) > tol]]
+        cuts[-1] = line.length
         lines += [np.asarray(substring(line, a, b).coords) for a, b in zip(cuts[:-1], cuts[1:]) if b > a]
         joints += [(t.name, c) for c in t.joint_pieces()]
-    pieces, n_dangling = split_region_by_lines(poly, lines)
+    pieces, n_dangling = split_region_by_lines(poly, lines, tol)
     return [q for p in pieces for q in convex_parts(p)], joints, n_dangling
 
 
@@ -133,12 +140,12 @@ def build_block_system(spec: GeometrySpec) -> BlockSystem:
     tol = 1e-9 * max(1.0, float(np.hypot(b[:, 2].max() - b[:, 0].min(), b[:, 3].max() - b[:, 1].min())))
     pieces, piece_region, joints, trace_len, notes = [], [], [], {}, []
     for ri, (r, poly) in enumerate(zip(spec.regions, polys)):
-        traces = traces_in_region(r.name, poly, spec.joint_sets, spec.joints)
+        traces = traces_in_region(r.name, poly, spec.joint_sets, spec.joints, tol)
         for t in traces:
             trace_len[t.name] = trace_len.get(t.name, 0.0) + t.length
         vs = spec.voronoi.get(r.name)
         if vs is None:
-            ps, js, n_dangling = _joint_bounded_blocks(poly, traces)
+            ps, js, n_dangling = _joint_bounded_blocks(poly, traces, tol)
             if n_dangling:
                 notes.append(f"region {r.name!r}: {n_dangling} joint line part(s) end inside a "
                              "block without Voronoi flaws and cut nothing")

@@ -237,30 +237,82 @@ class Trace:
         return out
 
 
-def traces_in_region(region_name: str, poly, joint_sets, joint_lines) -> list:
-    """All traces of the joint sets and joint lines that apply to one region polygon."""
+def traces_in_region(region_name: str, poly, joint_sets, joint_lines, tol: float | None = None) -> list:
+    """All traces of the joint sets and joint lines that apply to one region polygon.
+
+    Parts of a joint line that run along the region's boundary (within ``tol``, m; default
+    1e-9 of the region size) are not traces: a free surface or a region interface is already a
+    cut (e.g. a horizontal set whose spacing puts a joint exactly on a bench or on a hole edge).
+    Where a trace meets a boundary vertex (it passes through a corner, or leaves the boundary
+    there), that point is the vertex itself, so the cuts meet the boundary exactly.
+    """
+    if tol is None:
+        b = poly.bounds
+        tol = 1e-9 * max(1.0, float(np.hypot(b[2] - b[0], b[3] - b[1])))
+    bnd = _Boundary(poly, tol)
     out = []
     for js in joint_sets:
         if js.regions is not None and region_name not in js.regions:
             continue
         for _, p0, p1, iv in js.lines(poly.bounds):
             full = LineString([p0, p1])
-            for piece in _line_parts(shapely.intersection(full, poly)):
-                c = np.asarray(piece.coords)
-                if np.dot(c[-1] - c[0], js.direction()) < 0:
-                    c = c[::-1].copy()  # keep traces running down-dip, like the intervals
-                s0 = float(np.dot(c[0] - p0, js.direction()))
-                s1 = s0 + piece.length
-                sub = np.clip(iv, s0, s1) - s0
-                sub = sub[sub[:, 1] > sub[:, 0] + 1e-12 * max(piece.length, 1.0)]
-                out.append(Trace(js.name, region_name, c, sub, True))
+            for clip in _line_parts(shapely.intersection(full, poly)):
+                for c in bnd.inside_runs(clip):
+                    if np.dot(c[-1] - c[0], js.direction()) < 0:
+                        c = c[::-1].copy()  # keep traces running down-dip, like the intervals
+                    length = LineString(c).length
+                    s0 = float(np.dot(c[0] - p0, js.direction()))
+                    sub = np.clip(iv, s0, s0 + length) - s0
+                    sub = sub[sub[:, 1] > sub[:, 0] + 1e-12 * max(length, 1.0)]
+                    out.append(Trace(js.name, region_name, c, sub, True))
     for jl in joint_lines:
         if jl.regions is not None and region_name not in jl.regions:
             continue
-        for piece in _line_parts(shapely.intersection(LineString(jl.points), poly)):
-            c = np.asarray(piece.coords)
-            out.append(Trace(jl.name, region_name, c, np.array([[0.0, piece.length]]), False))
+        for clip in _line_parts(shapely.intersection(LineString(jl.points), poly)):
+            for c in bnd.inside_runs(clip):
+                out.append(Trace(jl.name, region_name, c, np.array([[0.0, LineString(c).length]]), False))
     return out
+
+
+class _Boundary:
+    """A region's boundary, for splitting clipped joint lines into their inside runs."""
+
+    def __init__(self, poly, tol):
+        self.line = poly.boundary
+        shapely.prepare(self.line)
+        self.vertices = shapely.get_coordinates(self.line)
+        self.tol = tol
+
+    def inside_runs(self, clip) -> list:
+        """The parts of ``clip`` (a LineString in the region) not on the boundary, as (m, 2)
+        arrays. Boundary vertices within ``tol`` of the line become nodes with their own exact
+        coordinates; a stretch between nodes whose midpoint is on the boundary is dropped."""
+        tol = self.tol
+        c = np.asarray(clip.coords)
+        near = self.vertices[shapely.distance(clip, shapely.points(self.vertices)) < tol]
+        nodes = np.vstack([c, near])
+        s = shapely.line_locate_point(clip, shapely.points(nodes))
+        is_bv = np.r_[np.zeros(len(c), bool), np.ones(len(near), bool)]
+        order = np.lexsort((~is_bv, s))  # boundary vertices first among equal positions
+        s, nodes = s[order], nodes[order]
+        keep = np.r_[True, np.diff(s) > tol]
+        # a group of nodes closer than tol is represented by its first (a boundary vertex if any)
+        s, nodes = s[keep], nodes[keep]
+        if len(s) < 2:
+            return []
+        mid = shapely.line_interpolate_point(clip, 0.5 * (s[:-1] + s[1:]))
+        inside = shapely.distance(self.line, mid) >= tol
+        runs, cur = [], None
+        for k, ok in enumerate(inside):
+            if ok:
+                cur = [nodes[k]] if cur is None else cur
+                cur.append(nodes[k + 1])
+            elif cur is not None:
+                runs.append(np.asarray(cur))
+                cur = None
+        if cur is not None:
+            runs.append(np.asarray(cur))
+        return runs
 
 
 def _line_parts(geom) -> list:

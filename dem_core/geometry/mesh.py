@@ -17,13 +17,24 @@ from scipy.spatial import cKDTree
 
 
 def polygons_to_csr(polys) -> tuple:
-    """CCW exterior coordinates of shapely polygons (no repeated end point) as (xy, offsets)."""
-    polys = shapely.orient_polygons(np.asarray(polys, dtype=object))
+    """CCW exterior coordinates of shapely polygons (no repeated end point) as (xy, offsets).
+
+    Orientation comes from the signed (shoelace) area, not GEOS's ring test, which looks at the
+    highest vertex only and can be fooled there by a zero-width spike of round-off size.
+    """
+    polys = np.asarray(polys, dtype=object)
     xy, idx = shapely.get_coordinates(shapely.get_exterior_ring(polys), return_index=True)
     last = np.r_[idx[1:] != idx[:-1], True]
     xy, idx = xy[~last], idx[~last]
     counts = np.bincount(idx, minlength=len(polys))
-    return xy, np.r_[0, np.cumsum(counts)].astype(np.int64)
+    off = np.r_[0, np.cumsum(counts)].astype(np.int64)
+    area, _ = polygon_area_centroid(xy, off)
+    cw = np.repeat(area < 0, counts)
+    if cw.any():  # reverse the clockwise rings, keeping their first vertex
+        start, n = np.repeat(off[:-1], counts), np.repeat(counts, counts)
+        pos = np.arange(len(xy))
+        xy = xy[np.where(cw, start + (start - pos) % n, pos)]
+    return xy, off
 
 
 def polygon_area_centroid(xy, offsets) -> tuple:

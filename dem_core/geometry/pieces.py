@@ -56,19 +56,33 @@ def convex_parts(poly: Polygon) -> list:
     return [q for p in parts for q in convex_parts(p)]
 
 
-def split_region_by_lines(poly: Polygon, lines: list) -> tuple:
+def split_region_by_lines(poly: Polygon, lines: list, tol: float) -> tuple:
     """Cut a region by polylines (node them with its boundary, polygonize).
 
-    Returns (pieces, dangling): the polygons that tile the region and the number of line parts
-    that cut nothing (they end inside a block).
+    A line end within ``tol`` (m) of a boundary edge (but not exactly at a boundary vertex) is
+    pushed 100 ``tol`` outwards along the line: a trace clipped to the region ends on a sloping
+    boundary segment only up to round-off, and an end a hair inside would not be noded with
+    the boundary, so the line would cut nothing. Returns (pieces, dangling): the polygons that tile the region and the
+    number of line parts that end inside it (the stubs pushed outside are not counted).
     """
     if not lines:
         return [poly], 0
-    linework = shapely.union_all([poly.boundary] + [LineString(c) for c in lines])
+    bnd = poly.boundary
+    corners = {tuple(v) for v in shapely.get_coordinates(bnd)}
+    out_lines = []
+    for c in lines:
+        c = np.array(c, float)
+        for end, nxt in ((0, 1), (-1, -2)):
+            if tuple(c[end]) not in corners and bnd.distance(Point(c[end])) < tol:
+                d = c[end] - c[nxt]
+                c[end] += 100.0 * tol * d / np.hypot(*d)
+        out_lines.append(LineString(c))
+    linework = shapely.union_all([bnd] + out_lines)
     polys, _, dangles, _ = shapely.polygonize_full([linework])
     out = [p for p in shapely.get_parts(polys) if p.area > 0
            and poly.contains(p.representative_point())]
-    return out, len(shapely.get_parts(dangles))
+    dangles = shapely.get_parts(dangles)
+    return out, int(np.count_nonzero(shapely.length(dangles) > 150.0 * tol))
 
 
 class CellSplitter:

@@ -236,9 +236,12 @@ def _collapse_short_edges(ctx) -> tuple:
             if len(loop) >= 3 and len(set(loop)) != len(loop):
                 ok = False
                 break
-            if len(loop) < 3 or abs(_area(mesh.X[loop])) <= mesh.tol * np.sqrt(abs(_area(mesh.X[mesh.blocks[b]])) + 0.0):
+            if len(loop) < 3:  # a triangle whose collapsing edge was its own: it vanishes
                 new[b] = None
-            elif _area(mesh.X[loop]) <= 0 or not _convex(mesh.X[loop]):
+            # a block flattened onto a line by a moved vertex may not vanish: its remaining
+            # vertices would be left as T-junctions on its neighbours' edges
+            elif _area(mesh.X[loop]) <= mesh.tol * np.sqrt(abs(_area(mesh.X[mesh.blocks[b]]))) \
+                    or not _convex(mesh.X[loop]):
                 ok = False
                 break
             else:

@@ -19,10 +19,9 @@ from __future__ import annotations
 
 import numpy as np
 import shapely
-from scipy.spatial import Delaunay
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
-from scipy.spatial import cKDTree
+from scipy.spatial import Delaunay, cKDTree
 
 SQRT3 = np.sqrt(3.0)
 # Target area per cell, in units of h^2. A regular hexagon of edge h has 1.5 sqrt(3) = 2.598 h^2,

@@ -1,0 +1,1 @@
+"""Thesis scenes as data: geometry, materials and boundary conditions, one module per case."""

@@ -1,0 +1,116 @@
+"""Adhikary & Dyskin (2006) centrifuge model IGM-01 (thesis 4.2, CASES.md section 2).
+
+Geometry (m), origin at the bottom-left corner of the model, the slope facing +x (the
+toolkit's convention: joints dipping into the slope are ``dip_direction="left"``):
+
+- the model is 0.400 m wide and 0.395 m high (thesis fig. 4.12); the slope is 0.330 m high with
+  a 61 degree face, so the base below the toe is 0.065 m thick;
+- **assumption (fig)**: the crest runs from x = 0 to the crest edge at x = 0.117 m, the face
+  goes down to the toe at x = 0.300 m, and a toe bench 0.100 m long runs on to x = 0.400 m;
+- bedding joints dip 81 degrees into the slope (the thesis's DM model; 80 in the experiment) at
+  10 mm spacing and cut the whole model, base included ("40 beds across base", fig. 4.4);
+- Voronoi flaws fill the columns (block edge ``edge_length``);
+- **assumption (fig 4.8)**: fixed base (the blocks touching y = 0), rollers on both sides (the
+  blocks touching x = 0 and x = 0.4 hold x, free in y and rotation);
+- **assumption (fig 4.2 insert)**: point A on the crest 5 mm behind the crest edge and 2 mm
+  below the crest surface; point B on the face at mid-height, 2 mm inside the rock. Positive
+  horizontal displacement is out of the slope (+x).
+
+Materials (CASES.md): blocks E 2.6 GPa, nu 0.16, unit weight 23.8 kN/m3; flaws kn 700, ks 600
+GPa/m, T 1.1 MPa, c 1.6 MPa, friction 37; bedding c 15 kPa, friction 23, T 0.
+**Assumption**: the bedding stiffness is not given; it is taken equal to the flaws' (the planes
+of the model were glued and tight).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from dem_core.geometry import GeometrySpec, JointSet, Region, Voronoi, build_block_system
+from dem_core.materials import Material
+from dem_core.model import Model
+
+WIDTH, HEIGHT, SLOPE_HEIGHT, FACE_DIP, TOE_BENCH = 0.400, 0.395, 0.330, 61.0, 0.100
+BASE = HEIGHT - SLOPE_HEIGHT
+TOE_X = WIDTH - TOE_BENCH
+CREST_X = TOE_X - SLOPE_HEIGHT / math.tan(math.radians(FACE_DIP))
+UNIT_WEIGHT = 23.8e3
+DENSITY = UNIT_WEIGHT / 9.81
+
+
+@dataclass(frozen=True)
+class AdhikaryParams:
+    """The scene's parameters (SI units, angles in degrees); defaults are the thesis's base run."""
+
+    edge_length: float = 0.004
+    relax_iterations: int = 20
+    seed: int = 1
+    joint_dip: float = 81.0
+    joint_spacing: float = 0.010
+    flaw_tensile: float = 1.1e6
+    flaw_cohesion: float = 1.6e6
+    flaw_friction: float = 37.0
+    flaw_kn: float = 700e9
+    flaw_ks: float = 600e9
+    bedding_cohesion: float = 15e3
+    bedding_friction: float = 23.0
+    block_E: float = 2.6e9
+    block_nu: float = 0.16
+    conventional: bool = False
+
+    def with_(self, **changes) -> "AdhikaryParams":
+        return replace(self, **changes)
+
+
+def profile() -> list:
+    """The slope section (m), counter-clockwise from the bottom-left corner."""
+    return [(0.0, 0.0), (WIDTH, 0.0), (WIDTH, BASE), (TOE_X, BASE), (CREST_X, HEIGHT),
+            (0.0, HEIGHT)]
+
+
+def face():
+    """The free face as ((x_toe, y_toe), (x_crest, y_crest)), m."""
+    return (TOE_X, BASE), (CREST_X, HEIGHT)
+
+
+def monitoring_points() -> dict:
+    """Points A (crest) and B (mid-face), m (module docstring)."""
+    t = math.radians(FACE_DIP)
+    inward = np.array([-math.sin(t), -math.cos(t)])          # into the rock, normal to the face
+    mid = np.array([TOE_X, BASE]) + 0.5 * SLOPE_HEIGHT * np.array([-1 / math.tan(t), 1.0])
+    return {"A": (CREST_X - 0.005, HEIGHT - 0.002), "B": tuple(mid + 0.002 * inward)}
+
+
+def geometry(p: AdhikaryParams) -> GeometrySpec:
+    rock = Region("rock", profile())
+    bedding = JointSet("bedding", p.joint_dip, p.joint_spacing, dip_direction="left")
+    vor = Voronoi(edge_length=p.edge_length, relax_iterations=p.relax_iterations, seed=p.seed)
+    return GeometrySpec([rock], joint_sets=[bedding], voronoi={"rock": vor})
+
+
+def materials(p: AdhikaryParams) -> dict:
+    flaw = Material(kn=p.flaw_kn, ks=p.flaw_ks, tensile_strength=p.flaw_tensile,
+                    cohesion=p.flaw_cohesion, friction=p.flaw_friction)
+    bedding = Material(kn=p.flaw_kn, ks=p.flaw_ks, tensile_strength=0.0,
+                       cohesion=p.bedding_cohesion, friction=p.bedding_friction,
+                       residual_cohesion=0.0)
+    return {"flaw:rock": flaw, "joint:bedding": bedding}
+
+
+def build_model(p: AdhikaryParams, blocks=None, **model_options) -> Model:
+    """The DEM model of the scene with its boundary conditions and points A and B."""
+    blocks = build_block_system(geometry(p)) if blocks is None else blocks
+    model = Model(blocks, materials(p), density=DENSITY, block_E=p.block_E,
+                  block_nu=p.block_nu, unbreakable="flaw:*" if p.conventional else None,
+                  **model_options)
+    tol = 1e-9
+    lo = np.minimum.reduceat(blocks.vertices, blocks.vertex_offsets[:-1], axis=0)
+    hi = np.maximum.reduceat(blocks.vertices, blocks.vertex_offsets[:-1], axis=0)
+    model.fix(np.flatnonzero(lo[:, 1] < tol))
+    sides = np.flatnonzero(((lo[:, 0] < tol) | (hi[:, 0] > WIDTH - tol)) & (lo[:, 1] >= tol))
+    model.fix(sides, x=True, y=False, rotation=False)
+    for name, xy in monitoring_points().items():
+        model.add_history_point(name, xy)
+    return model
