@@ -32,7 +32,7 @@ from dem_core.geometry import GeometrySpec, JointSet, Region, Voronoi, build_blo
 from dem_core.materials import Material
 from dem_core.model import Model
 
-WIDTH, HEIGHT, SLOPE_HEIGHT, FACE_DIP, TOE_BENCH = 0.400, 0.395, 0.330, 61.0, 0.100
+WIDTH, HEIGHT, SLOPE_HEIGHT, FACE_DIP, TOE_BENCH = 0.400, 0.395, 0.330, 61.0, 0.0
 BASE = HEIGHT - SLOPE_HEIGHT
 TOE_X = WIDTH - TOE_BENCH
 CREST_X = TOE_X - SLOPE_HEIGHT / math.tan(math.radians(FACE_DIP))

@@ -24,6 +24,23 @@ def _ring(poly) -> np.ndarray:
     return np.asarray(shapely.orient_polygons(poly).exterior.coords)[:-1]
 
 
+def _drop_degenerate_vertices(xy: np.ndarray, tol: float) -> np.ndarray:
+    """Remove round-off debris from a ring: a vertex within ``tol`` (m) of the previous one,
+    or the tip of a zero-width spike (its two neighbours within ``tol`` of each other). GEOS
+    overlays leave such spikes where a clipped or split line passes a hair from a corner."""
+    pts = [p for p in xy]
+    changed = True
+    while changed and len(pts) >= 3:
+        changed = False
+        for i in range(len(pts)):
+            prev, nxt = pts[i - 1], pts[(i + 1) % len(pts)]
+            if np.hypot(*(pts[i] - prev)) < tol or np.hypot(*(nxt - prev)) < tol:
+                del pts[i]
+                changed = True
+                break
+    return np.asarray(pts).reshape(-1, 2)
+
+
 def convex_parts(poly: Polygon) -> list:
     """Split a polygon (holes allowed) into convex polygons.
 
@@ -37,6 +54,11 @@ def convex_parts(poly: Polygon) -> list:
         parts = split(poly, LineString([(c[0], ymin), (c[0], ymax)])).geoms
         return [q for p in parts for q in convex_parts(p)]
     xy = _ring(poly)
+    clean = _drop_degenerate_vertices(xy, 1e-9 * max(1.0, float(np.hypot(*np.ptp(xy, axis=0)))))
+    if len(clean) < len(xy):
+        if len(clean) < 3:
+            return []
+        xy, poly = clean, Polygon(clean)
     if is_convex(xy):
         return [poly]
     e = np.roll(xy, -1, axis=0) - xy
