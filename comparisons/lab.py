@@ -5,7 +5,7 @@ reads the force the specimen exerts on them (``contact_force``). Conventions: SI
 compressive stress and strain positive; shear stress positive in the direction the lower box
 moves (+x). Strains are platen displacement over specimen height; the lateral strain of the
 compression test is the change of distance between the specimen's two side faces over the
-width (extension negative), so Poisson's ratio = -lateral / axial.
+width (expansion positive), so Poisson's ratio = lateral / axial.
 
 The moduli measured on a 2D assembly are the 2D (plane) values ``E_2d``, ``nu_2d``; their
 plane-strain equivalents are ``nu = nu_2d / (1 + nu_2d)``, ``E = E_2d (1 - nu^2)``
@@ -40,6 +40,7 @@ class LabCurve:
     ----------
     x, y : (n,) arrays. Compression/tension: axial strain and stress (Pa); shear: shear
         displacement (m) and shear stress (Pa).
+    time : (n,) array, s. Model time of each record (to pick the crack log at the peak).
     lateral : (n,) array. Compression: lateral strain; shear: normal stress measured (Pa).
     peak : float. Max of y (Pa).
     x_at_peak : float.
@@ -49,6 +50,7 @@ class LabCurve:
 
     x: np.ndarray
     y: np.ndarray
+    time: np.ndarray
     lateral: np.ndarray
     peak: float
     x_at_peak: float
@@ -97,11 +99,12 @@ def compression_test(model: Model, width: float, height: float, rate: float,
     bot = m.group("platen_bottom")
     y0 = float(m.state.pos[top, 1].mean())
     w0 = None if left is None else _mean_x(m, right) - _mean_x(m, left)
-    strain, stress, lateral = [0.0], [0.0], [0.0]
+    strain, stress, lateral, times = [0.0], [0.0], [0.0], [m.time]
     while True:
         m.set_velocity("platen_top", vx=0.0, vy=-rate / m.dt)   # dt may change after searches
         m.cycle(chunk)
         f_top, f_bot = contact_force(m, top), contact_force(m, bot)
+        times.append(m.time)
         strain.append((y0 - float(m.state.pos[top, 1].mean())) / height)
         stress.append(0.5 * (f_top[1] - f_bot[1]) / width)
         if w0 is not None:
@@ -111,7 +114,7 @@ def compression_test(model: Model, width: float, height: float, rate: float,
         peak = max(stress)
         if strain[-1] > max_strain or (stress[-1] < post_peak * peak and peak > 0):
             break
-    return _curve(strain, stress, lateral, m, t0, keep_model)
+    return _curve(strain, stress, times, lateral, m, t0, keep_model)
 
 
 def tension_test(model: Model, width: float, height: float, rate: float, max_strain=0.02,
@@ -125,17 +128,18 @@ def tension_test(model: Model, width: float, height: float, rate: float, max_str
     m.fix("platen_bottom")
     top, bot = m.group("platen_top"), m.group("platen_bottom")
     y0 = float(m.state.pos[top, 1].mean())
-    strain, stress = [0.0], [0.0]
+    strain, stress, times = [0.0], [0.0], [m.time]
     while True:
         m.set_velocity("platen_top", vx=0.0, vy=rate / m.dt)
         m.cycle(chunk)
         f_top, f_bot = contact_force(m, top), contact_force(m, bot)
+        times.append(m.time)
         strain.append((float(m.state.pos[top, 1].mean()) - y0) / height)
         stress.append(0.5 * (f_bot[1] - f_top[1]) / width)
         peak = max(stress)
         if strain[-1] > max_strain or (stress[-1] < post_peak * peak and peak > 0):
             break
-    return _curve(strain, stress, np.zeros(len(strain)), m, t0, keep_model)
+    return _curve(strain, stress, times, np.zeros(len(strain)), m, t0, keep_model)
 
 
 def direct_shear(model: Model, length: float, normal_stress: float, rate: float,
@@ -170,11 +174,12 @@ def direct_shear(model: Model, length: float, normal_stress: float, rate: float,
         if abs(fy - target) <= settle_tol * max(target, 1.0) and m.unbalanced_ratio() < 1e-3:
             break
     x0 = float(m.state.pos[low, 0].mean())
-    disp, tau, sn = [0.0], [0.0], [contact_force(m, up)[1] / length]
+    disp, tau, sn, times = [0.0], [0.0], [contact_force(m, up)[1] / length], [m.time]
     while True:
         m.set_velocity(low, vx=rate / m.dt, vy=0.0, omega=0.0)
         m.cycle(chunk)
         f_up, f_low = contact_force(m, up), contact_force(m, low)
+        times.append(m.time)
         disp.append(float(m.state.pos[low, 0].mean()) - x0)
         tau.append(0.5 * (f_up[0] - f_low[0]) / length)
         sn.append(f_up[1] / length)
@@ -183,14 +188,14 @@ def direct_shear(model: Model, length: float, normal_stress: float, rate: float,
             break
         if tau[i] > 0 and tau[-1] < post_peak * tau[i] and disp[-1] > 1.5 * disp[i]:
             break
-    return _curve(disp, tau, sn, m, t0, keep_model)
+    return _curve(disp, tau, times, sn, m, t0, keep_model)
 
 
-def _curve(x, y, lateral, m, t0, keep_model) -> LabCurve:
+def _curve(x, y, times, lateral, m, t0, keep_model) -> LabCurve:
     x, y, lateral = np.asarray(x), np.asarray(y), np.asarray(lateral)
     i = int(np.argmax(y))
-    return LabCurve(x=x, y=y, lateral=lateral, peak=float(y[i]), x_at_peak=float(x[i]),
-                    steps=int(m.step), runtime_s=time.perf_counter() - t0, dt=float(m.dt),
+    return LabCurve(x=x, y=y, time=np.asarray(times), lateral=lateral, peak=float(y[i]),
+                    x_at_peak=float(x[i]), steps=int(m.step), runtime_s=time.perf_counter() - t0, dt=float(m.dt),
                     n_blocks=int(m.n_blocks), cracks=m.crack_counts(),
                     model=m if keep_model else None)
 
@@ -232,8 +237,10 @@ def calibrate_cohesion(ucs_of, target_ucs: float, c0: float, rel_tol=0.02, max_r
 
     ``ucs_of(c) -> float`` runs the compression test with flaw cohesion c (Pa). The UCS of a
     Voronoi specimen grows with c (thesis fig. 3.9) but not strictly linearly, and is flat
-    where tension failure governs: a step that would leave the bracket is replaced by
-    bisection (regula falsi with the Illinois weighting).
+    where tension failure governs: once bracketed, regula falsi with the Illinois weighting.
+    If two unbracketed steps change the UCS by less than half the tolerance, the target is out
+    of the reach of c (e.g. below the strength of the fully broken, interlocked assembly): the
+    search stops with ``converged=False`` and the closest run.
 
     Returns dict(cohesion, ucs, converged, history=[(c, ucs), ...]).
     """
@@ -270,6 +277,8 @@ def calibrate_cohesion(ucs_of, target_ucs: float, c0: float, rel_tol=0.02, max_r
                 side = -1
             b, fb = c, fc
         else:                      # not bracketed: secant (extrapolating), kept positive
+            if abs(fb - fa) < 0.5 * rel_tol * target_ucs:
+                break              # the UCS no longer responds to c: the target is out of reach
             slope = (fb - fa) / (b - a) if b != a else 0.0
             c = b - fb / slope if slope > 0 else b * (1.5 if fb < 0 else 0.67)
             c = min(max(c, 0.25 * b), 4.0 * b)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import importlib
 
 CASES = {
+    "lajtai": "comparisons.lajtai",
 }
 
 DEMO_CASE = None

@@ -71,3 +71,23 @@ class BlockSystem:
     def block_vertices(self, b: int) -> np.ndarray:
         """The (k, 2) CCW vertices of block ``b`` (a view)."""
         return self.vertices[self.vertex_offsets[b]:self.vertex_offsets[b + 1]]
+
+    def bounds(self) -> tuple:
+        """(xmin, ymin, xmax, ymax) of all blocks, m."""
+        lo, hi = self.vertices.min(axis=0), self.vertices.max(axis=0)
+        return float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1])
+
+    def touching(self, side: str, tol: float | None = None) -> np.ndarray:
+        """Blocks with a vertex on a side of the model's bounding box ("bottom", "top", "left",
+        "right"), within ``tol`` m (default 1e-9 of the model size): the usual boundary groups
+        (fixed base, roller sides)."""
+        sides = {"left": (0, min), "right": (0, max), "bottom": (1, min), "top": (1, max)}
+        if side not in sides:
+            raise ValueError(f"side must be one of {sorted(sides)}, got {side!r}")
+        axis, pick = sides[side]
+        x0, y0, x1, y1 = self.bounds()
+        tol = 1e-9 * max(x1 - x0, y1 - y0) if tol is None else float(tol)
+        edge = pick(self.vertices[:, axis].min(), self.vertices[:, axis].max())
+        near = np.abs(self.vertices[:, axis] - edge) <= tol
+        owner = np.repeat(np.arange(self.n_blocks), np.diff(self.vertex_offsets))
+        return np.unique(owner[near])

@@ -191,3 +191,16 @@ def initial_contacts(bs, headroom: float = 1.5) -> Contacts:
     c.material[:m] = np.repeat(np.asarray(bs.edge_material), 2)
     c.n = m
     return c
+
+
+def surface_materials(c: Contacts, n_vertices: int) -> np.ndarray:
+    """(n_vertices,) material id of the block face starting at each vertex, -1 if free.
+
+    Every face of a shared edge is B's edge of one of the edge's two initial contacts, so the
+    initial contacts label every face that touches another block at the start.
+    """
+    out = np.full(n_vertices, -1, np.int32)
+    eb = c.edge_b[:c.n]
+    known = eb >= 0
+    out[eb[known]] = c.material[:c.n][known]
+    return out

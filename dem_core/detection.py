@@ -14,7 +14,9 @@ margin since the last search (``integrate.run_steps`` status 1):
    B's edge (within the margin).
    A point of a shared edge that is not a vertex of A survives its bond only while the two
    faces stay parallel (relative rotation below 0.2 rad).
-4. A candidate becomes a new, unbonded contact unless a contact of the same block pair with a
+4. A candidate becomes a new, unbonded contact with the material of the face of B it touches
+   (``BlockProps.surface_material``: the joint, flaw or region boundary that face lies on; the
+   model's ``new_contact_material`` for a face that was free at the start), unless a contact of the same block pair with a
    (anti)parallel normal already sits within the margin of it (so vertex-vertex touches and
    shared edges are not doubled, while a corner rolling over an edge gets its own contact).
 """
@@ -120,6 +122,25 @@ def _outward(wv, offsets, blk, e):
 
 
 @njit(cache=True)
+def _diagonal_at_crossing(wv, offsets, B, be, f, x, y, a1x, a1y, a2x, a2y, margin):
+    """True when A's vertex sits on a corner of B and A's two faces there continue B's two
+    faces (each antiparallel to one of them): the blocks are diagonal neighbours where two
+    straight lines cross (an X, e.g. a flaw line crossing a joint). They cannot overlap by a
+    small translation without first overlapping the blocks they share edges with, and a
+    contact between them has no defined normal: it would lock slip along either line."""
+    near = 0.25 * margin
+    for corner, other in ((be, be - 1 if be > offsets[B] else offsets[B + 1] - 1), (f, f)):
+        if math.hypot(x - wv[corner, 0], y - wv[corner, 1]) > near:
+            continue
+        b1x, b1y = _outward(wv, offsets, B, be)
+        b2x, b2y = _outward(wv, offsets, B, other)
+        if (a1x * b1x + a1y * b1y < -0.999 and a2x * b2x + a2y * b2y < -0.999) or \
+                (a1x * b2x + a1y * b2y < -0.999 and a2x * b1x + a2y * b1y < -0.999):
+            return True
+    return False
+
+
+@njit(cache=True)
 def _vertex_candidates(A, B, wv, offsets, lo, hi, margin, out, n):
     """Append candidates (A, vertex, B, edge) of A's vertices near B to ``out``.
 
@@ -155,6 +176,8 @@ def _vertex_candidates(A, B, wv, offsets, lo, hi, margin, out, n):
         ex, ey = wv[f, 0] - wv[be, 0], wv[f, 1] - wv[be, 1]
         ln2 = ex * ex + ey * ey
         s = ((x - wv[be, 0]) * ex + (y - wv[be, 1]) * ey) / ln2
+        if _diagonal_at_crossing(wv, offsets, B, be, f, x, y, a1x, a1y, a2x, a2y, margin):
+            continue
         if s < 0.0 or s > 1.0:                    # near a corner: true distance to the segment
             sc = min(max(s, 0.0), 1.0)
             if math.hypot(x - wv[be, 0] - sc * ex, y - wv[be, 1] - sc * ey) > margin:
@@ -309,13 +332,35 @@ def update_contacts(model, margin):
         new.point_b[r] = point_b
         new.normal_b[r] = normal_b
         new.length[r] = L
-        new.material[r] = model.table.names.index(model.new_contact_material)
+        new.material[r] = _touched_material(model, cand)
         new.broken[r] = UNBONDED
         new.slipping[r] = 0
         for name in ("sn", "ts", "us", "up", "un"):
             getattr(new, name)[r] = 0.0
         new.n += m
     return new, m
+
+
+def _touched_material(model, cand):
+    """Material of new contacts: the weakest (lowest residual friction) of the faces that meet
+    at the contact, B's touched face and A's two faces at its vertex, among those that lay on
+    a flaw, joint or region boundary at the start; free faces give ``new_contact_material``.
+
+    At a corner-to-corner touch across a joint the joint face is then the one that counts,
+    not the intact rock of the flaw faces next to it.
+    """
+    p, table = model.props, model.table
+    off = p.vertex_offsets
+    A, v, e = cand[:, 0], cand[:, 1], cand[:, 3]
+    prev = np.where(v - 1 >= off[A], v - 1, off[A + 1] - 1)
+    faces = np.column_stack([p.surface_material[e], p.surface_material[v],
+                             p.surface_material[prev]])
+    default = table.names.index(model.new_contact_material)
+    faces = np.where(faces >= 0, faces, -1)
+    friction = np.where(faces >= 0, table.res_tan_friction[np.maximum(faces, 0)], np.inf)
+    pick = np.argmin(friction, axis=1)
+    chosen = faces[np.arange(len(cand)), pick]
+    return np.where(chosen >= 0, chosen, default).astype(np.int32)
 
 
 def sort_for_locality(c: Contacts) -> Contacts:

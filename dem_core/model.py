@@ -18,7 +18,7 @@ import numpy as np
 
 from . import detection, forces, integrate, monitor
 from .blocks import BlockSystem
-from .contacts import initial_contacts
+from .contacts import initial_contacts, surface_materials
 from .elastic import series_stiffness
 from .materials import material_table
 from .state import FIX_ROT, FIX_X, FIX_Y, BlockProps, BlockState
@@ -111,6 +111,7 @@ class Model:
         self._rot = np.zeros((nb, 2))
         integrate.update_rotation(self.state.theta, self._rot)
         self.contacts = detection.sort_for_locality(initial_contacts(blocks))
+        self.props.surface_material = surface_materials(self.contacts, len(blocks.vertices))
         self._set_contact_stiffness(0, self.contacts.n)
         nbonded = self.contacts.n
         self.cracks = np.zeros((nbonded + 16, 7))

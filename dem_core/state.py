@@ -41,6 +41,10 @@ class BlockProps:
     velocity_bc : (nb, 3) float64. Prescribed (vx, vy, omega) in m/s, rad/s.
     load : (nb, 3) float64. Applied constant force (N/m) and moment (N m/m).
     active : (nb,) int8. 0 once a block has been removed (excavated).
+    surface_material : (nv,) int32. Material id of the block face that starts at each vertex
+        (the flaw, joint or region boundary it lies on), -1 for a free face. A contact found by
+        the search takes the material of the face it touches, so a corner pressed against a
+        joint face gets the joint's friction, not the intact rock's.
     """
 
     vertex_offsets: np.ndarray
@@ -54,6 +58,7 @@ class BlockProps:
     velocity_bc: np.ndarray
     load: np.ndarray
     active: np.ndarray
+    surface_material: np.ndarray = None
 
     @classmethod
     def from_block_system(cls, bs, density) -> "BlockProps":

@@ -56,6 +56,8 @@ class AdhikaryParams:
     flaw_ks: float = 600e9
     bedding_cohesion: float = 15e3
     bedding_friction: float = 23.0
+    bedding_kn: float = 700e9
+    bedding_ks: float = 600e9
     block_E: float = 2.6e9
     block_nu: float = 0.16
     conventional: bool = False
@@ -93,7 +95,7 @@ def geometry(p: AdhikaryParams) -> GeometrySpec:
 def materials(p: AdhikaryParams) -> dict:
     flaw = Material(kn=p.flaw_kn, ks=p.flaw_ks, tensile_strength=p.flaw_tensile,
                     cohesion=p.flaw_cohesion, friction=p.flaw_friction)
-    bedding = Material(kn=p.flaw_kn, ks=p.flaw_ks, tensile_strength=0.0,
+    bedding = Material(kn=p.bedding_kn, ks=p.bedding_ks, tensile_strength=0.0,
                        cohesion=p.bedding_cohesion, friction=p.bedding_friction,
                        residual_cohesion=0.0)
     return {"flaw:rock": flaw, "joint:bedding": bedding}
@@ -105,11 +107,9 @@ def build_model(p: AdhikaryParams, blocks=None, **model_options) -> Model:
     model = Model(blocks, materials(p), density=DENSITY, block_E=p.block_E,
                   block_nu=p.block_nu, unbreakable="flaw:*" if p.conventional else None,
                   **model_options)
-    tol = 1e-9
-    lo = np.minimum.reduceat(blocks.vertices, blocks.vertex_offsets[:-1], axis=0)
-    hi = np.maximum.reduceat(blocks.vertices, blocks.vertex_offsets[:-1], axis=0)
-    model.fix(np.flatnonzero(lo[:, 1] < tol))
-    sides = np.flatnonzero(((lo[:, 0] < tol) | (hi[:, 0] > WIDTH - tol)) & (lo[:, 1] >= tol))
+    base = blocks.touching("bottom")
+    model.fix(base)
+    sides = np.setdiff1d(np.union1d(blocks.touching("left"), blocks.touching("right")), base)
     model.fix(sides, x=True, y=False, rotation=False)
     for name, xy in monitoring_points().items():
         model.add_history_point(name, xy)

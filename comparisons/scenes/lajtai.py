@@ -11,8 +11,9 @@ Three scenes, each a Voronoi specimen ("rock") between rigid loading parts (one 
 Sizes are shown only in the thesis figures (3.8, 3.10, 3.13); **assumptions** (stated in the
 results' notes too):
 
-- UCS specimen 60 mm wide x 120 mm high (2:1; thesis 3.5: "a two-to-one model ... edge length
-  of 7 mm"), platens 1 edge length thick and as wide as the specimen.
+- UCS specimen 100 mm wide x 200 mm high (2:1; thesis 3.5: "a two-to-one model ... edge length
+  of 7 mm"), platens 1 edge length thick and as wide as the specimen. About 14 blocks across
+  at 7 mm: with 5 blocks across (60 mm) the rigid-block specimen never softened.
 - Direct-shear specimen 150 mm long x 75 mm high, shear plane at y = 37.5 mm. The lower box
   is a bottom plate and two walls up to 1/6 of the height below the shear plane, the upper box
   a top plate and two walls from 1/6 of the height above it (the gap lets the plane form
@@ -57,7 +58,7 @@ THESIS_EDGE = 0.007
 DENSITY = 1200.0
 BLOCK_NU = 0.25
 
-UCS_WIDTH, UCS_HEIGHT = 0.060, 0.120
+UCS_WIDTH, UCS_HEIGHT = 0.100, 0.200
 SHEAR_LENGTH, SHEAR_HEIGHT = 0.150, 0.075
 SLOT_HEIGHT = 0.002
 LAJTAI_PERSISTENCE = 0.5
@@ -199,3 +200,38 @@ def side_blocks(blocks, x, tol):
         if np.any(np.abs(v[:, 0] - x) < tol):
             out.append(b)
     return np.array(out, dtype=np.int64)
+
+
+def stiffness_for_edge(p: FlawParams, edge: float) -> FlawParams:
+    """``p`` at block edge ``edge`` with kn, ks scaled by thesis eq. 3.7 (kn proportional to
+    1 / zone width, so kn(edge) = kn(p.edge_length) p.edge_length / edge; ks/kn kept)."""
+    f = p.edge_length / edge
+    return p.with_(edge_length=edge, kn=p.kn * f, ks=p.ks * f)
+
+
+def model_options(p: FlawParams, safety=0.5) -> dict:
+    """Model keywords shared by the lab scenes: quasi-static (mass scaling, local damping 0.8),
+    deformable blocks in series with the contacts."""
+    return dict(density=DENSITY, block_E=p.block_E, block_nu=p.block_nu, mass_scaling=True,
+                damping=0.8, safety=safety)
+
+
+def ucs_model(p: FlawParams, width=UCS_WIDTH, height=UCS_HEIGHT, glued_platens=False,
+              safety=0.5, blocks=None):
+    """The compression (or, glued, tension) specimen as a Model, and its side-block indices."""
+    from dem_core.model import Model
+
+    bs = build(ucs_geometry(p, width, height)) if blocks is None else blocks
+    m = Model(bs, ucs_materials(p, glued_platens), **model_options(p, safety))
+    tol = 1e-6 * width
+    return m, side_blocks(bs, 0.0, tol), side_blocks(bs, width, tol)
+
+
+def shear_model(p: FlawParams, s: ShearParams, safety=0.5, blocks=None):
+    """The direct-shear specimen in its box as a Model (new contacts get the flaws' residual
+    strength)."""
+    from dem_core.model import Model
+
+    bs = build(shear_geometry(p, s)) if blocks is None else blocks
+    return Model(bs, shear_materials(p, s), new_contact_material="flaw:rock",
+                 **model_options(p, safety))
