@@ -238,8 +238,8 @@ def calibrate_cohesion(ucs_of, target_ucs: float, c0: float, rel_tol=0.02, max_r
     ``ucs_of(c) -> float`` runs the compression test with flaw cohesion c (Pa). The UCS of a
     Voronoi specimen grows with c (thesis fig. 3.9) but not strictly linearly, and is flat
     where tension failure governs: once bracketed, regula falsi with the Illinois weighting.
-    If two unbracketed steps change the UCS by less than half the tolerance, the target is out
-    of the reach of c (e.g. below the strength of the fully broken, interlocked assembly): the
+    If an unbracketed step that changed c by more than 1.5 x changes the UCS by less than half
+    the tolerance, the target is out of the reach of c (e.g. below the strength of the fully broken, interlocked assembly): the
     search stops with ``converged=False`` and the closest run.
 
     Returns dict(cohesion, ucs, converged, history=[(c, ucs), ...]).
@@ -277,7 +277,7 @@ def calibrate_cohesion(ucs_of, target_ucs: float, c0: float, rel_tol=0.02, max_r
                 side = -1
             b, fb = c, fc
         else:                      # not bracketed: secant (extrapolating), kept positive
-            if abs(fb - fa) < 0.5 * rel_tol * target_ucs:
+            if abs(fb - fa) < 0.5 * rel_tol * target_ucs and max(a, b) > 1.5 * min(a, b):
                 break              # the UCS no longer responds to c: the target is out of reach
             slope = (fb - fa) / (b - a) if b != a else 0.0
             c = b - fb / slope if slope > 0 else b * (1.5 if fb < 0 else 0.67)

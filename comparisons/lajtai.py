@@ -49,7 +49,7 @@ VARIANTS = {
         normal_stresses=[0.3, 1.2, 2.4], lajtai_normal_stresses=[0.3, 1.2, 2.4],
         persistence=[0.0, 0.5, 1.0], tensile=[0.5, 1.0], scale_edges=[],
         cohesion_sweep=[], accuracy_edges=[], accuracy_safety=[], continuum=True,
-        continuum_h=0.01, workers=1),
+        continuum_h=0.01, continuum_normal_stresses=[0.3, 1.2, 2.4], workers=1),
     "full": dict(
         ucs_edge=0.007, shear_edge=0.007, ucs_rate=2e-7, shear_rate=2e-7,
         ucs_max_strain=0.03, shear_max_disp=0.004,
@@ -59,7 +59,8 @@ VARIANTS = {
         scale_edges=[0.005, 0.007, 0.009, 0.011],
         cohesion_sweep=[0.3, 0.6, 0.9, 1.5, 2.0, 2.4],
         accuracy_edges=[0.005, 0.006, 0.007, 0.009, 0.011, 0.014], accuracy_safety=[0.3, 0.9],
-        continuum=True, continuum_h=0.006, workers=2),
+        continuum=True, continuum_h=0.008, continuum_normal_stresses=[0.3, 0.9, 1.5, 2.4],
+        workers=2),
 }
 
 # thesis 3.6-3.8: flaws and joints at friction 30 for the persistence, T and scale studies
@@ -416,7 +417,8 @@ def _continuum(res, cfg, say):
         res.notes.append(f"continuum column skipped: {exc}")
         return
     t0 = time.perf_counter()
-    out = lajtai_continuum.run(cfg["normal_stresses"], h=cfg["continuum_h"], progress=say)
+    out = lajtai_continuum.run(cfg["continuum_normal_stresses"], h=cfg["continuum_h"],
+                               progress=say)
     out["runtime_s"] = time.perf_counter() - t0
     res.methods["continuum"] = out
     res.add_error("continuum_ucs_mpa", out["ucs_mpa"], scene.THESIS_UCS / MPA,

@@ -12,9 +12,10 @@ import importlib
 
 CASES = {
     "lajtai": "comparisons.lajtai",
+    "adhikary": "comparisons.adhikary",
 }
 
-DEMO_CASE = None
+DEMO_CASE = "adhikary"
 
 
 def case_module(name: str):

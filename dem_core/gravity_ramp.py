@@ -46,7 +46,7 @@ class RampRecord:
 
 
 def raise_gravity(model, g_levels, ratio=1e-4, max_steps=20_000, failure_displacement=None,
-                  progress=None, stop_at_failure=True, ramp_steps=400) -> RampRecord:
+                  progress=None, stop_at_failure=True, ramp_steps=400, creep=None) -> RampRecord:
     """Solve the model at each g-level in turn (module docstring); return the record.
 
     Parameters
@@ -58,6 +58,9 @@ def raise_gravity(model, g_levels, ratio=1e-4, max_steps=20_000, failure_displac
     failure_displacement : m. A block moving more than this during one level is failure.
     progress : callable(str), optional.
     stop_at_failure : stop at the first failed level (the model is then in its failed state).
+    creep : m, passed to ``Model.solve``: a displacement increment below this over the last
+        fifth of a level's steps is not "still moving" (slender models creep towards
+        equilibrium slowly; a small creep value calls that failure).
     ramp_steps : steps over which g moves from one level to the next in 10 equal increments,
         so that a level is not applied as a sudden load (whose dynamic overshoot would break
         bonds a quasi-static load does not). 0 applies each level at once.
@@ -74,7 +77,7 @@ def raise_gravity(model, g_levels, ratio=1e-4, max_steps=20_000, failure_displac
         _ramp(model, g_now, float(g), ramp_steps)
         g_now = float(g)
         res = model.solve(ratio=ratio, max_steps=max_steps,
-                          failure_displacement=failure_displacement)
+                          failure_displacement=failure_displacement, creep=creep)
         failed = res.verdict == "failed" or (
             failure_displacement is not None and res.max_displacement > failure_displacement)
         rec.g.append(float(g))

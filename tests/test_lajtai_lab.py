@@ -87,11 +87,14 @@ def test_calibrate_cohesion_on_a_monotone_and_a_floored_response():
 
 
 def test_calibration_reproduces_its_own_target_ucs_on_a_voronoi_specimen():
-    """Target: the UCS the quick specimen gives at c = 2.4 MPa; start from c = 1.2 MPa."""
+    """Target: the UCS the quick specimen gives at c = 0.3 MPa; start from c = 1.2 MPa.
+
+    (The UCS of these specimens responds weakly to c, docs/comparisons.md ## lajtai: the
+    target is within reach but a wide band of c meets it.)"""
     base = dict(test="ucs", edge=0.007, tensile=scene.THESIS_TENSILE, friction=37.0,
                 kn=scene.THESIS_KN, ks=scene.THESIS_KS, seed=1, rate=3e-7, max_strain=0.02)
     run = lambda c: ucs_member({**base, "cohesion": c})["peak"]  # noqa: E731
-    target = run(2.4e6)
+    target = run(0.3e6)
     cal = lab.calibrate_cohesion(run, target, 1.2e6, rel_tol=0.03, max_runs=6)
     assert cal["converged"], cal["history"]
     assert run(cal["cohesion"]) == pytest.approx(target, rel=0.05)     # rerun: reproducible

@@ -5,8 +5,9 @@ toolkit's convention: joints dipping into the slope are ``dip_direction="left"``
 
 - the model is 0.400 m wide and 0.395 m high (thesis fig. 4.12); the slope is 0.330 m high with
   a 61 degree face, so the base below the toe is 0.065 m thick;
-- **assumption (fig)**: the crest runs from x = 0 to the crest edge at x = 0.117 m, the face
-  goes down to the toe at x = 0.300 m, and a toe bench 0.100 m long runs on to x = 0.400 m;
+- **assumption (fig)**: the crest runs from x = 0 to the crest edge at x = 0.217 m and the face
+  goes down to the toe at the model's right side, x = 0.400 m, on top of the 65 mm base (no
+  toe bench; ``TOE_BENCH`` holds the bench length if the figure shows one);
 - bedding joints dip 81 degrees into the slope (the thesis's DM model; 80 in the experiment) at
   10 mm spacing and cut the whole model, base included ("40 beds across base", fig. 4.4);
 - Voronoi flaws fill the columns (block edge ``edge_length``);
@@ -28,7 +29,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from dem_core.geometry import GeometrySpec, JointSet, Region, Voronoi, build_block_system
+from dem_core.geometry import (GeometrySpec, JointSet, Region, Voronoi, build_block_system,
+                               slope_profile)
 from dem_core.materials import Material
 from dem_core.model import Model
 
@@ -68,8 +70,12 @@ class AdhikaryParams:
 
 def profile() -> list:
     """The slope section (m), counter-clockwise from the bottom-left corner."""
-    return [(0.0, 0.0), (WIDTH, 0.0), (WIDTH, BASE), (TOE_X, BASE), (CREST_X, HEIGHT),
-            (0.0, HEIGHT)]
+    return [tuple(map(float, xy)) for xy in _region().exterior]
+
+
+def _region() -> Region:
+    return slope_profile(SLOPE_HEIGHT, FACE_DIP, crest_length=CREST_X, toe_length=TOE_BENCH,
+                         base_thickness=BASE, name="rock")
 
 
 def face():
@@ -86,7 +92,7 @@ def monitoring_points() -> dict:
 
 
 def geometry(p: AdhikaryParams) -> GeometrySpec:
-    rock = Region("rock", profile())
+    rock = _region()
     bedding = JointSet("bedding", p.joint_dip, p.joint_spacing, dip_direction="left")
     vor = Voronoi(edge_length=p.edge_length, relax_iterations=p.relax_iterations, seed=p.seed)
     return GeometrySpec([rock], joint_sets=[bedding], voronoi={"rock": vor})

@@ -1,0 +1,236 @@
+"""Case ``adhikary``: centrifuge flexural toppling, Adhikary & Dyskin (2006) model IGM-01
+(thesis 4.2, CASES.md section 2).
+
+Methods:
+
+- ``dem``: the damage model (Voronoi flaws in the columns), gravity raised step by step to
+  failure (``dem_core.gravity_ramp``), at several flaw tensile strengths, flaw frictions and a
+  lower bedding cohesion; histories of the horizontal displacement at points A (crest) and B
+  (mid-face); the crack log; the rupture surface (``dem_core.rupture``) with its angle to the
+  joint normal and its depth behind the face.
+- ``conventional``: the same scene with unbreakable flaws (thesis: conventional UDEC).
+- ``continuum``: the same slope in ``continuum_ref`` (Mohr-Coulomb, tension cut-off, the intact
+  rock's strength smeared over the mass: the joints are not represented), displacement at A and
+  B against g, critical g-level and the yield-indicator picture.
+
+Failure at a g-level (``dem_core.gravity_ramp``): the solve does not reach equilibrium and the
+displacement keeps growing (by more than ``creep`` over the last fifth of the level's steps),
+or a block moves more than ``failure_displacement`` during the level. The failure g reported is
+the first failed level; the resolution is the level step of the variant.
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from comparisons.results import CaseResult, Curve
+from comparisons.scenes import adhikary as scene
+from comparisons.sweep import run_sweep
+from dem_core.geometry import build_block_system
+from dem_core.gravity_ramp import raise_gravity
+from dem_core.rupture import angle_to_joint_normal, depth_from_face, find_rupture
+
+DESCRIPTION = ("Centrifuge flexural toppling (Adhikary & Dyskin 2006, thesis 4.2): failure g "
+               "against flaw tensile strength; damage model vs conventional DEM vs continuum")
+
+MPA = 1e6
+
+REFERENCE = {
+    "experiment_failure_g": [80.0, 85.0],
+    "thesis_dem_failure_g_T1.1": 70.0,
+    "thesis_dem_failure_g_T1.4": [82.0, 83.0],
+    "thesis_conventional_failure_g": 115.0,
+    "thesis_dem_failure_g_bedding_c5kPa": 50.0,
+    "experiment_rupture_angle_above_joint_normal_deg": [12.0, 20.0],
+    "source": "Alzo'ubi (2009) thesis 4.2; Adhikary & Dyskin (2006)",
+}
+
+VARIANTS = {
+    # quick: coarse blocks and 20 g levels; enough to see the trends (minutes on 2 cores)
+    "quick": dict(edge_length=0.006, relax_iterations=10, g_levels=list(range(20, 201, 20)),
+                  max_steps=25_000, tensile=[1.1, 1.4], frictions=[], bedding_cohesion=[],
+                  conventional=True, continuum=True, continuum_h=0.012, workers=2),
+    # full: the thesis's runs, 1 g levels
+    "full": dict(edge_length=0.004, relax_iterations=50, g_levels=list(range(1, 151)),
+                 max_steps=100_000, tensile=[0.8, 0.9, 1.0, 1.1, 1.2, 1.3, 1.4],
+                 frictions=[32.0, 25.0], bedding_cohesion=[5e3], conventional=True,
+                 continuum=True, continuum_h=0.006, workers=2),
+}
+
+FAILURE_DISPLACEMENT = 0.005     # m in one level: 1.5 % of the slope height
+CREEP = 2e-4                     # m over the last fifth of a level: still moving
+
+
+def run_member(member: dict) -> dict:
+    """One DEM run of the g-ramp (a sweep member: plain dict in, plain dict out)."""
+    t0 = time.perf_counter()
+    params = scene.AdhikaryParams(**member["params"])
+    blocks = build_block_system(scene.geometry(params))
+    model = scene.build_model(params, blocks, mass_scaling=True)
+    rec = raise_gravity(model, member["g_levels"], ratio=1e-5, max_steps=member["max_steps"],
+                        failure_displacement=FAILURE_DISPLACEMENT, creep=CREEP)
+    log = model.crack_log()
+    flaw = np.array([m.startswith("flaw:") for m in log["material"]], bool)
+    rupture = find_rupture(log["x"][flaw], log["y"][flaw],
+                           link_distance=1.6 * params.edge_length, face=scene.face())
+    out = {
+        "label": member["label"], "params": member["params"], "blocks": blocks.n_blocks,
+        "contacts": int(model.contacts.n), "g": rec.g, "verdict": rec.verdict,
+        "steps": int(np.sum(rec.steps)), "failure_g": rec.failure_g,
+        "last_stable_g": rec.last_stable_g, "ux_A": rec.point_ux.get("A", []),
+        "ux_B": rec.point_ux.get("B", []), "flaw_cracks": int(flaw.sum()),
+        "crack_xy": np.column_stack([log["x"][flaw], log["y"][flaw]]).tolist(),
+        "crack_mode": log["mode"][flaw].tolist(), "rupture": None,
+        "runtime_s": time.perf_counter() - t0,
+    }
+    if rupture is not None:
+        out["rupture"] = {
+            "polyline": rupture.polyline.tolist(), "n_cracks": rupture.n_cracks,
+            "angle_above_joint_normal_deg": angle_to_joint_normal(
+                rupture.direction, params.joint_dip, "left"),
+            "depth_m": depth_from_face(rupture.polyline, scene.face()),
+            "length_m": rupture.length}
+    return out
+
+
+def _members(v: dict, seed: int) -> list:
+    base = dict(edge_length=v["edge_length"], relax_iterations=v["relax_iterations"], seed=seed)
+    common = dict(g_levels=v["g_levels"], max_steps=v["max_steps"])
+    members = [dict(label=f"T={t}", params=dict(base, flaw_tensile=t * MPA), **common)
+               for t in v["tensile"]]
+    members += [dict(label=f"flaw friction {f:g}", params=dict(base, flaw_friction=f), **common)
+                for f in v["frictions"]]
+    members += [dict(label=f"bedding c {c / 1e3:g} kPa", params=dict(base, bedding_cohesion=c),
+                     **common) for c in v["bedding_cohesion"]]
+    if v["conventional"]:
+        members.append(dict(label="conventional", params=dict(base, conventional=True),
+                            **common))
+    return members
+
+
+def run(variant: str = "quick", seed: int = 1, progress=None) -> CaseResult:
+    if variant not in VARIANTS:
+        raise ValueError(f"variant must be one of {sorted(VARIANTS)}, got {variant!r}")
+    v = VARIANTS[variant]
+    progress = progress or (lambda message: None)
+    result = CaseResult("adhikary", variant, seed, reference=dict(REFERENCE))
+    members = _members(v, seed)
+    progress(f"{len(members)} DEM runs (g-levels {v['g_levels'][0]}..{v['g_levels'][-1]})")
+    runs = run_sweep(run_member, members, workers=v["workers"], progress=progress)
+    by_label = {r["label"]: r for r in runs}
+    tensile_runs = [by_label[f"T={t}"] for t in v["tensile"]]
+    base_run = by_label.get("T=1.1", tensile_runs[0])
+    result.methods["dem"] = {
+        "failure_g": [[r["params"]["flaw_tensile"] / MPA, r["failure_g"]] for r in tensile_runs],
+        "last_stable_g": [[r["params"]["flaw_tensile"] / MPA, r["last_stable_g"]]
+                          for r in tensile_runs],
+        "friction_study": [[r["params"]["flaw_friction"], r["failure_g"]] for r in runs
+                           if r["label"].startswith("flaw friction")],
+        "bedding_cohesion_study": [[r["params"]["bedding_cohesion"] / 1e3, r["failure_g"]]
+                                   for r in runs if r["label"].startswith("bedding c")],
+        "rupture": base_run["rupture"],
+        "blocks": base_run["blocks"], "contacts": base_run["contacts"],
+        "g_step": v["g_levels"][1] - v["g_levels"][0],
+        "runtime_s": float(sum(r["runtime_s"] for r in runs if r["label"] != "conventional")),
+    }
+    if "conventional" in by_label:
+        conv = by_label["conventional"]
+        result.methods["conventional"] = {"failure_g": conv["failure_g"],
+                                          "last_stable_g": conv["last_stable_g"],
+                                          "rupture": conv["rupture"],
+                                          "runtime_s": conv["runtime_s"]}
+        result.add_error("conventional failure g", _g(conv), 115.0, "conventional")
+    _errors(result, by_label)
+    if v["continuum"]:
+        from comparisons.adhikary_continuum import run_continuum
+        progress("continuum: critical g-level")
+        result.methods["continuum"] = run_continuum(v["continuum_h"], v["g_levels"][-1],
+                                                    result)
+        result.add_error("continuum failure g vs experiment",
+                         result.methods["continuum"]["failure_g"], [80.0, 85.0], "continuum")
+    _curves_and_figures(result, runs, base_run)
+    result.notes += [
+        "Geometry and boundary assumptions: see comparisons/scenes/adhikary.py (crest at the "
+        "left, no toe bench, fixed base, rollers on the sides, A on the crest, B mid-face).",
+        f"Failure test: no equilibrium with displacement still growing (> {CREEP} m over the "
+        f"last fifth of a level) or a block moving > {FAILURE_DISPLACEMENT} m in one level; "
+        f"g resolution {result.methods['dem']['g_step']} g. A failure g of None means no "
+        f"failure up to {v['g_levels'][-1]} g; its error is then reported as missing.",
+        "Bedding-plane stiffness is not given in the thesis; taken equal to the flaws'.",
+    ]
+    return result
+
+
+def _g(run):
+    return None if run is None else run["failure_g"]
+
+
+def _errors(result, by_label):
+    if "T=1.1" in by_label:
+        result.add_error("dem failure g, T=1.1 MPa vs thesis", _g(by_label["T=1.1"]), 70.0)
+        result.add_error("dem failure g, T=1.1 MPa vs experiment", _g(by_label["T=1.1"]),
+                         [80.0, 85.0])
+    if "T=1.4" in by_label:
+        result.add_error("dem failure g, T=1.4 MPa vs thesis", _g(by_label["T=1.4"]),
+                         [82.0, 83.0])
+    if "bedding c 5 kPa" in by_label:
+        result.add_error("dem failure g, bedding c 5 kPa vs thesis",
+                         _g(by_label["bedding c 5 kPa"]), 50.0)
+    rupture = result.methods["dem"]["rupture"]
+    if rupture is not None:
+        result.add_error("rupture angle above joint normal (deg) vs experiment",
+                         rupture["angle_above_joint_normal_deg"], [12.0, 20.0])
+
+
+def _curves_and_figures(result, runs, base_run):
+    import matplotlib.pyplot as plt
+
+    for r in runs:
+        name = "displacement_" + r["label"].replace("=", "").replace(" ", "_")
+        rows = np.column_stack([r["g"], r["ux_A"], r["ux_B"]]) if r["g"] else np.zeros((0, 3))
+        result.curves[name] = Curve(["g_level", "ux_A_m", "ux_B_m"], rows)
+    ft = [(t, g) for t, g in result.methods["dem"]["failure_g"]]
+    result.curves["failure_g_vs_tensile"] = Curve(
+        ["tensile_strength_mpa", "failure_g"],
+        np.array([[t, np.nan if g is None else g] for t, g in ft]))
+
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for r in runs:
+        ax.plot(r["g"], 1e3 * np.asarray(r["ux_A"]), "-o", ms=3, label=f"A, {r['label']}")
+    if "continuum" in result.methods:
+        c = result.methods["continuum"]
+        ax.plot(c["g"], 1e3 * np.asarray(c["ux_A"]), "k--", label="A, continuum")
+    ax.set_xlabel("g-level")
+    ax.set_ylabel("horizontal displacement (mm, + out of slope)")
+    ax.legend(fontsize=7)
+    result.figures["displacement_vs_g"] = fig
+
+    fig, ax = plt.subplots(figsize=(5, 4))
+    ax.plot([t for t, _ in ft], [np.nan if g is None else g for _, g in ft], "o-",
+            label="this toolkit (damage model)")
+    ax.plot([1.1, 1.4], [70, 82.5], "s", label="thesis UDEC-DM")
+    ax.axhspan(80, 85, color="0.85", label="experiment")
+    ax.set_xlabel("flaw tensile strength (MPa)")
+    ax.set_ylabel("failure g-level")
+    ax.legend(fontsize=7)
+    result.figures["failure_g_vs_tensile"] = fig
+
+    fig, ax = plt.subplots(figsize=(6, 6))
+    ax.fill(*np.array(scene.profile() + [scene.profile()[0]]).T, color="0.9")
+    xy = np.asarray(base_run["crack_xy"]).reshape(-1, 2)
+    mode = np.asarray(base_run["crack_mode"])
+    for m, colour, label in ((1, "red", "tension"), (2, "blue", "shear")):
+        k = mode == m
+        if k.any():
+            ax.plot(xy[k, 0], xy[k, 1], ".", ms=3, color=colour, label=f"flaw cracks ({label})")
+    if base_run["rupture"] is not None:
+        line = np.asarray(base_run["rupture"]["polyline"])
+        ax.plot(line[:, 0], line[:, 1], "k-", lw=2, label="rupture surface")
+    for name, (x, y) in scene.monitoring_points().items():
+        ax.plot(x, y, "k^")
+        ax.annotate(name, (x, y))
+    ax.set_aspect("equal")
+    ax.set_title(f"damage model, {base_run['label']}, at failure g = {base_run['failure_g']}")
+    ax.legend(fontsize=7, loc="lower left")
+    result.figures["cracks_at_failure"] = fig
