@@ -141,13 +141,18 @@ def _diagonal_at_crossing(wv, offsets, B, be, f, x, y, a1x, a1y, a2x, a2y, margi
 
 
 @njit(cache=True)
-def _vertex_candidates(A, B, wv, offsets, lo, hi, margin, out, n):
+def _vertex_candidates(A, B, wv, offsets, lo, hi, margin, covered, out, n):
     """Append candidates (A, vertex, B, edge) of A's vertices near B to ``out``.
 
     The edge is the one with the largest outward signed distance; where edges tie (a vertex at
     or beside B's corner) the one that faces A's wedge best (most negative dot of B's normal
     with the normals of A's two edges at the vertex). A vertex outside B whose wedge does not
     face the edge (both dots >= -0.05: side by side) is no contact.
+
+    A face of B that an intact bond glues to a neighbour (``covered``) cannot be touched: it is
+    never chosen, and a vertex whose nearest faces of B are all covered gets no contact (a
+    vertex sliding past the corner between two bonded blocks must meet the next block's face,
+    not the buried side face between them, which would lock the slip).
     """
     tie = 1e-3 * margin
     for v in range(offsets[A], offsets[A + 1]):
@@ -165,12 +170,14 @@ def _vertex_candidates(A, B, wv, offsets, lo, hi, margin, out, n):
         a2x, a2y = _outward(wv, offsets, A, vp)
         be, bf = -1, np.inf
         for e in range(offsets[B], offsets[B + 1]):
+            if covered[e]:
+                continue
             ox, oy = _outward(wv, offsets, B, e)
             if (x - wv[e, 0]) * ox + (y - wv[e, 1]) * oy >= best - tie:
                 facing = min(ox * a1x + oy * a1y, ox * a2x + oy * a2y)
                 if facing < bf:
                     be, bf = e, facing
-        if best >= 0.0 and bf >= -0.05:
+        if be < 0 or (best >= 0.0 and bf >= -0.05):
             continue
         f = be + 1 if be + 1 < offsets[B + 1] else offsets[B]
         ex, ey = wv[f, 0] - wv[be, 0], wv[f, 1] - wv[be, 1]
@@ -190,7 +197,7 @@ def _vertex_candidates(A, B, wv, offsets, lo, hi, margin, out, n):
 
 
 @njit(cache=True)
-def narrow_phase(pairs, wv, offsets, lo, hi, margin):
+def narrow_phase(pairs, wv, offsets, lo, hi, margin, covered):
     """(m, 4) int64 candidates [A, vertex of A, B, first vertex of B's edge]."""
     out = np.empty((8 * pairs.shape[0] + 16, 4), np.int64)
     n = 0
@@ -198,7 +205,8 @@ def narrow_phase(pairs, wv, offsets, lo, hi, margin):
         for A, B in ((pairs[p, 0], pairs[p, 1]), (pairs[p, 1], pairs[p, 0])):
             full = True
             while full:
-                n, full = _vertex_candidates(A, B, wv, offsets, lo, hi, margin, out, n)
+                n, full = _vertex_candidates(A, B, wv, offsets, lo, hi, margin, covered, out,
+                                             n)
                 if full:                          # grow and redo this block's vertices
                     bigger = np.empty((2 * out.shape[0], 4), np.int64)
                     bigger[:n] = out[:n]
@@ -296,7 +304,7 @@ def update_contacts(model, margin):
     lo, hi = _boxes(wv, p.vertex_offsets, p.active, margin)
     cell = 2.0 * float(np.median(p.radius[p.active > 0])) + 2 * margin if p.active.any() else 1.0
     pairs = grid_pairs(lo, hi, p.active, cell)
-    cand = narrow_phase(pairs, wv, p.vertex_offsets, lo, hi, margin)
+    cand = narrow_phase(pairs, wv, p.vertex_offsets, lo, hi, margin, covered_faces(model))
     end = _fix_ring(c.edge_b[:c.n], c.block_b[:c.n], p.vertex_offsets)
     keep, px, py, qx, qy = _survives_kernel(
         c.n, c.block_a, c.block_b, c.vertex_a, c.point_a, c.point_b, c.normal_b, c.edge_b, end,
@@ -318,6 +326,10 @@ def update_contacts(model, margin):
     ed /= np.hypot(ed[:, 0], ed[:, 1])[:, None]
     acc = _accept(keys, px[kept], py[kept], qx[kept], qy[kept], ckeys, wv[cand[:, 1], 0],
                   wv[cand[:, 1], 1], -ed[:, 1], ed[:, 0], margin)
+    # one contact per (vertex of A, block B): a vertex at B's corner is not in contact with
+    # both of B's faces there (a second contact would double the stiffness and lock motion)
+    have = c.vertex_a[kept].astype(np.int64) * nb + c.block_b[kept]
+    acc &= ~np.isin(cand[:, 1] * nb + cand[:, 2], have[c.vertex_a[kept] >= 0])
     cand = cand[acc]
     m = cand.shape[0]
     new = compact(c, kept)
@@ -361,6 +373,17 @@ def _touched_material(model, cand):
     pick = np.argmin(friction, axis=1)
     chosen = faces[np.arange(len(cand)), pick]
     return np.where(chosen >= 0, chosen, default).astype(np.int32)
+
+
+def covered_faces(model) -> np.ndarray:
+    """(nv,) bool: the block face starting at each vertex is glued to a neighbour by an intact
+    bond (an intact contact of a bonded material has that face as its edge)."""
+    c = model.contacts
+    covered = np.zeros(len(model.props.local_vertices), np.bool_)
+    eb = c.edge_b[:c.n]
+    bond = (c.broken[:c.n] == INTACT) & model.table.bonded()[c.material[:c.n]] & (eb >= 0)
+    covered[eb[bond]] = True
+    return covered
 
 
 def sort_for_locality(c: Contacts) -> Contacts:

@@ -4,7 +4,7 @@ The qualitative results asked of the case: a non-linear envelope, strength non-i
 with persistence k, k = 1 on the 30 degree friction line (within 10 %), T = 1.0 MPa above
 T = 0.5 MPa, and the calibration reaching its target UCS (within 5 %).
 
-Three of them are marked ``xfail(strict=True)``: they fail because of the rigid-block
+Two of them are marked ``xfail(strict=True)``: they fail because of the rigid-block
 contact handling in dem_core (a vertex that passes a corner of another block while sliding is
 attached to the block's side edge, so sliding along a joint through Voronoi blocks locks and
 broken specimens interlock; see docs/comparisons.md "## lajtai"). Strict: when dem_core is
@@ -61,8 +61,6 @@ def test_envelope_is_non_linear(quick):
     assert slopes[0] > 1.2 * slopes[-1]
 
 
-@pytest.mark.xfail(strict=True, reason="the peaks are set by interlocking at block corners "
-                   "(dem_core), not by bridge tension (docs/comparisons.md, ## lajtai)")
 def test_higher_flaw_tensile_strength_gives_a_higher_envelope(quick):
     """Clearly higher where tension governs (lowest normal stress), never lower elsewhere
     (at high normal stress both envelopes approach the frictional part; 2 % run-to-run

@@ -100,9 +100,6 @@ def test_calibration_reproduces_its_own_target_ucs_on_a_voronoi_specimen():
     assert run(cal["cohesion"]) == pytest.approx(target, rel=0.05)     # rerun: reproducible
 
 
-@pytest.mark.xfail(strict=True, reason="dem_core: the contact search adds unbonded corner "
-                   "contacts next to intact bonds that carry ~40 % of the compression and "
-                   "stiffen the assembly (docs/comparisons.md, ## lajtai)")
 def test_compression_modulus_of_a_strong_specimen_is_near_the_lattice():
     p = scene.FlawParams(edge_length=0.01, block_E=None, relax_iterations=50)
     m, left, right = scene.ucs_model(p, 0.1, 0.2)

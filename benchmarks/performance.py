@@ -1,0 +1,219 @@
+"""DEM throughput and scaling, a profile of the time step, the machine limit, and the continuum's
+time per Newton iteration against dofs.
+
+    .venv/bin/python benchmarks/performance.py [--quick | --full]
+
+- Scaling: ``throughput.run`` (bonded Voronoi square on a fixed base at 50 g) for 1e3..1e4
+  (quick) or 1e3..1e5 (full) blocks. The kernels are serial (no ``prange``): threads = 1, so
+  contact updates per second per core is the same as per process.
+- Profile: the parts of one step timed separately on one specimen by calling the same numba
+  kernels the step calls (``forces.add_contact_forces``, ``integrate.advance``,
+  ``integrate.update_rotation``, the zeroing of the force array, ``forces.add_gravity``).
+- Machine limit: memory bandwidth from numpy copies (``dst[:] = src``, 2 x 200 MB, counted as
+  read + write) and a triad; the bytes streamed and the flops per contact update counted from the
+  kernel source (see ``BYTES_PER_CONTACT``); the bandwidth-bound time per contact update is
+  bytes / bandwidth.
+- Continuum: elastic and Mohr-Coulomb centrifuge slope (``continuum_scaling.slope_case``),
+  seconds per Newton iteration against dofs.
+Writes results/performance.json and results/performance.png.
+"""
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+import scenes
+import throughput
+
+# Streamed per contact and step by add_contact_forces (dtypes of dem_core.contacts):
+# read block_a, block_b (int32 4+4), point_a, point_b, normal_b (3 x 16), length, kn, ks (3 x 8),
+# material (4), up (8), broken (1) = 93 B; written sn, ts, un, us, up (5 x 8) + slipping (1) = 41 B,
+# of which 33 B are lines not read before (write-allocate: read once more) -> 93 + 41 + 33 = 167 B.
+# The block data (pos, rot gathered; f read-modify-written, 2 blocks x 64 B) stay in cache when
+# contacts are ordered by block (sort_for_locality) and are not counted.
+BYTES_PER_CONTACT = 167
+# Arithmetic per contact (from the source; mul/add/compare, no division or sqrt on the elastic
+# path): world points and gap 2 x 8 + 2, normal 6, u_n, u_s 6, law ~ 10, forces 6, moments 2 x 5,
+# force scatter 6 adds -> about 60 flops.
+FLOPS_PER_CONTACT = 60
+
+
+def bandwidth(mb=200, reps=5):
+    n = mb * 2 ** 20 // 8
+    src = np.random.default_rng(0).random(n)
+    dst = np.empty_like(src)
+    c = np.empty_like(src)
+    best_copy = best_triad = np.inf
+    for _ in range(reps):
+        t0 = time.perf_counter()
+        dst[:] = src
+        best_copy = min(best_copy, time.perf_counter() - t0)
+        t0 = time.perf_counter()
+        np.multiply(src, 2.0, out=c)
+        np.add(c, dst, out=c)          # two passes: read 2, write 1 then read 2, write 1
+        best_triad = min(best_triad, time.perf_counter() - t0)
+    byte = 8 * n
+    # copy: read + write (+ write-allocate read, not counted: the conservative, STREAM-like figure)
+    return {"array_MB": mb, "copy_GB_s": 2 * byte / best_copy / 1e9,
+            "two_pass_triad_GB_s": 6 * byte / best_triad / 1e9}
+
+
+def profile(n_blocks, steps=200):
+    from dem_core import forces, integrate
+
+    bs = throughput.specimen(n_blocks)
+    m = leave_model(bs)
+    p, s, c = m.props, m.state, m.contacts
+    strength = m.table.strength_array()
+    half = 0.5 * m.search_margin
+    parts = {}
+
+    def timed(name, fn):
+        fn()                                   # warm
+        t0 = time.perf_counter()
+        for _ in range(steps):
+            fn()
+        parts[name] = (time.perf_counter() - t0) / steps
+
+    timed("zero force array", lambda: s.force.fill(0.0))
+    timed("contact forces + law (add_contact_forces)", lambda: forces.add_contact_forces(
+        c.n, c.block_a, c.block_b, c.point_a, c.point_b, c.normal_b, c.length, c.kn, c.ks,
+        c.material, strength, c.sn, c.ts, c.un, c.us, c.up, c.broken, c.slipping, s.pos,
+        m._rot, s.force, m.time, m.cracks, m.crack_count))
+    timed("gravity (add_gravity)", lambda: forces.add_gravity(p.mass, p.active, m.gravity,
+                                                              s.force))
+    # advance moves the blocks: keep the force small so the specimen stays put
+    s.force.fill(0.0)
+    timed("damping + integration + movement check (advance)", lambda: integrate.advance(
+        s.force, s.pos, s.theta, s.vel, s.omega, p.inv_mass, p.inv_inertia, p.fixity,
+        p.velocity_bc, p.active, p.radius, s.pos_search, s.theta_search, m.damping, m.dt,
+        half))
+    timed("cos/sin of rotations (update_rotation)", lambda: integrate.update_rotation(
+        s.theta, m._rot))
+    m2 = leave_model(bs)
+    m2.cycle(steps)
+    t0 = time.perf_counter()
+    m2.cycle(steps)
+    whole = (time.perf_counter() - t0) / steps
+    total = sum(parts.values())
+    return {"blocks": bs.n_blocks, "contacts": int(c.n), "whole_step_s": whole,
+            "parts_s": parts, "parts_fraction_of_sum": {k: v / total for k, v in parts.items()},
+            "ns_per_contact_in_contact_kernel":
+                1e9 * parts["contact forces + law (add_contact_forces)"] / c.n}
+
+
+def leave_model(bs):
+    from dem_core.materials import Material
+    from dem_core.model import Model
+
+    flaw = Material(kn=40e9, ks=20e9, tensile_strength=1.1e6, cohesion=1.2e6, friction=37)
+    m = Model(bs, {"flaw:*": flaw, "boundary:*": flaw}, density=1700, history_every=10**9)
+    m.fix("base")
+    m.set_gravity(50.0)
+    m.cycle(20)
+    return m
+
+
+def continuum(full, log):
+    import continuum_scaling as cs
+    from continuum_ref.materials import Elastic, MohrCoulomb
+
+    hs = [0.04, 0.02, 0.01] if not full else [0.04, 0.02, 0.01, 0.006]
+    rows = []
+    for h in hs:
+        r = cs.slope_case(h, Elastic(E=2.6e9, nu=0.16), 100.0)
+        r.update(law="elastic", s_per_newton_iteration=r["solve_s"] / r["newton_iterations"])
+        rows.append(r)
+        log(f"  elastic slope h {h}: {r['dofs']} dofs, {r['s_per_newton_iteration']:.4f} s/it")
+    for h in (hs[:2] if not full else hs[:3]):
+        mat = MohrCoulomb(E=2.6e9, nu=0.16, cohesion=50e3, friction=30.0, dilation=0.0,
+                          tensile_strength=20e3)
+        r = cs.slope_case(h, mat, 60.0)
+        r.update(law="mohr_coulomb", s_per_newton_iteration=r["solve_s"] /
+                 max(r["newton_iterations"], 1))
+        rows.append(r)
+        log(f"  MC slope h {h}: {r['dofs']} dofs, {r['s_per_newton_iteration']:.4f} s/it")
+    return rows
+
+
+def plot(out, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 3, figsize=(17, 4.8))
+    sc = out["scaling"]
+    ax = axes[0]
+    ax.loglog([r["blocks"] for r in sc], [r["contact_updates_per_s_per_core"] for r in sc],
+              "o-", label="measured (1 thread, serial kernel)")
+    lim = out["machine_limit"]["bandwidth_bound_updates_per_s"]
+    ax.axhline(lim, color="r", ls="--", label=f"memory-bandwidth bound ({lim:.2g}/s)")
+    ax.set_xlabel("blocks")
+    ax.set_ylabel("contact updates / s / core")
+    ax.set_title("DEM throughput")
+    ax.legend(fontsize=7)
+    ax.grid(True, which="both", alpha=0.3)
+    ax = axes[1]
+    pr = out["profile"]["parts_fraction_of_sum"]
+    ax.barh(range(len(pr)), list(pr.values()))
+    ax.set_yticks(range(len(pr)))
+    ax.set_yticklabels(list(pr), fontsize=7)
+    ax.set_xlabel("fraction of the step")
+    ax.set_title(f"DEM step profile, {out['profile']['blocks']} blocks")
+    ax = axes[2]
+    for law, mk in (("elastic", "o-"), ("mohr_coulomb", "s-")):
+        rows = [r for r in out["continuum"] if r["law"] == law]
+        ax.loglog([r["dofs"] for r in rows], [r["s_per_newton_iteration"] for r in rows], mk,
+                  label=law)
+    ax.set_xlabel("dofs")
+    ax.set_ylabel("s per Newton iteration")
+    ax.set_title("continuum (MUMPS LU, serial)")
+    ax.legend(fontsize=7)
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    g = ap.add_mutually_exclusive_group()
+    g.add_argument("--quick", action="store_true")
+    g.add_argument("--full", action="store_true")
+    a = ap.parse_args(argv)
+    out = {"machine": scenes.machine(), "mode": "full" if a.full else "quick", "threads": 1,
+           "note": "serial numba kernels (no prange): 1 thread; a 2-thread run is not possible "
+                   "without a parallel kernel"}
+    t0 = time.perf_counter()
+    out["bandwidth"] = bandwidth()
+    print(f"bandwidth: copy {out['bandwidth']['copy_GB_s']:.1f} GB/s")
+    sizes = [1000, 3000, 10_000] if not a.full else [1000, 3000, 10_000, 30_000, 100_000]
+    out["scaling"] = []
+    for n in sizes:
+        r = throughput.run(n, 300 if n <= 10_000 else 200)
+        out["scaling"].append(r)
+        print(f"  {r['blocks']} blocks: {r['contact_updates_per_s_per_core']:.3g} updates/s")
+    out["profile"] = profile(10_000 if not a.full else 30_000)
+    print("  profile:", {k: round(v, 3) for k, v in out["profile"]["parts_fraction_of_sum"].items()})
+    bw = out["bandwidth"]["copy_GB_s"] * 1e9
+    best = max(r["contact_updates_per_s_per_core"] for r in out["scaling"])
+    out["machine_limit"] = {
+        "bytes_per_contact_update": BYTES_PER_CONTACT, "flops_per_contact_update":
+            FLOPS_PER_CONTACT, "bandwidth_bound_updates_per_s": bw / BYTES_PER_CONTACT,
+        "bandwidth_bound_ns_per_update": 1e9 * BYTES_PER_CONTACT / bw,
+        "measured_best_updates_per_s": best,
+        "fraction_of_bandwidth_bound": best / (bw / BYTES_PER_CONTACT),
+        "achieved_GB_s": best * BYTES_PER_CONTACT / 1e9,
+        "achieved_GFlop_s": best * FLOPS_PER_CONTACT / 1e9}
+    print("  machine limit:", {k: (round(v, 3) if isinstance(v, float) else v)
+                               for k, v in out["machine_limit"].items()})
+    out["continuum"] = continuum(a.full, print)
+    out["wall_seconds"] = time.perf_counter() - t0
+    path = scenes.write_json("performance", out)
+    plot(out, scenes.RESULTS / "performance.png")
+    print(f"wrote {path} ({out['wall_seconds']:.0f} s)")
+
+
+if __name__ == "__main__":
+    main()
