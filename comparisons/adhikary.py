@@ -48,7 +48,7 @@ REFERENCE = {
 
 VARIANTS = {
     # quick: coarse blocks and 20 g levels; enough to see the trends (minutes on 2 cores)
-    "quick": dict(edge_length=0.006, relax_iterations=10, g_levels=list(range(20, 201, 20)),
+    "quick": dict(edge_length=0.006, relax_iterations=10, g_levels=list(range(40, 241, 20)),
                   max_steps=25_000, tensile=[1.1, 1.4], frictions=[], bedding_cohesion=[],
                   conventional=True, continuum=True, continuum_h=0.012, workers=2),
     # full: the thesis's runs, 1 g levels
