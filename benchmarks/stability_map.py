@@ -245,10 +245,16 @@ def plot(out, path):
         ax = axes.pop(0)
         for name, mk in zip(dict.fromkeys(r["blocks"] for r in rows), "os^"):
             for g, col in ((1.0, "C0"), (150.0, "C3")):
-                sel = [r for r in rows if r["blocks"] == name and r["g_level"] == g]
-                ax.scatter([r["kn"] * (1 + 0.15 * np.log10(r["kn_over_ks"])) for r in sel],
-                           [r["margin"] for r in sel], marker=mk, c=col, alpha=0.7,
-                           label=f"{name}, {g:g} g")
+                for valid in (True, False):
+                    sel = [r for r in rows if r["blocks"] == name and r["g_level"] == g
+                           and (r["overlap_over_search_margin"] < 1.0) == valid]
+                    if not sel:
+                        continue
+                    ax.scatter([r["kn"] * (1 + 0.15 * np.log10(r["kn_over_ks"])) for r in sel],
+                               [r["margin"] for r in sel], marker=mk, alpha=0.7,
+                               c=col if valid else "none", edgecolors=col,
+                               label=f"{name}, {g:g} g" + ("" if valid else
+                                                          " (overlap > search margin)"))
         ax.set_xscale("log")
         ax.axhline(1.0, color="k", lw=1)
         ax.set_xlabel("kn (Pa/m)  (points spread by kn/ks 0.1..100 left to right)")
@@ -258,9 +264,9 @@ def plot(out, path):
         ax = axes.pop(0)
         ratios = sorted(set(r["kn_over_ks"] for r in rows))
         for name, mk in zip(dict.fromkeys(r["blocks"] for r in rows), "os^"):
-            sel = [r for r in rows if r["blocks"] == name]
+            sel = [r for r in rows if r["blocks"] == name and r["overlap_over_search_margin"] < 1]
             m = [min(x["margin"] for x in sel if x["kn_over_ks"] == q) for q in ratios]
-            ax.semilogx(ratios, m, mk + "-", label=f"{name}: min over kn, g")
+            ax.semilogx(ratios, m, mk + "-", label=f"{name}: min over kn, g (overlap < margin)")
         ax.axhline(1.0, color="k", lw=1)
         ax.set_xlabel("kn / ks")
         ax.set_ylabel("min margin")

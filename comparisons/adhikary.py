@@ -73,7 +73,7 @@ def run_member(member: dict) -> dict:
     log = model.crack_log()
     flaw = np.array([m.startswith("flaw:") for m in log["material"]], bool)
     rupture = find_rupture(log["x"][flaw], log["y"][flaw],
-                           link_distance=1.6 * params.edge_length, face=scene.face())
+                           link_distance=1.6 * params.edge_length, face=scene.face(params))
     out = {
         "label": member["label"], "params": member["params"], "blocks": blocks.n_blocks,
         "contacts": int(model.contacts.n), "g": rec.g, "verdict": rec.verdict,
@@ -89,7 +89,7 @@ def run_member(member: dict) -> dict:
             "polyline": rupture.polyline.tolist(), "n_cracks": rupture.n_cracks,
             "angle_above_joint_normal_deg": angle_to_joint_normal(
                 rupture.direction, params.joint_dip, "left"),
-            "depth_m": depth_from_face(rupture.polyline, scene.face()),
+            "depth_m": depth_from_face(rupture.polyline, scene.face(params)),
             "length_m": rupture.length}
     return out
 

@@ -36,8 +36,6 @@ from dem_core.model import Model
 
 WIDTH, HEIGHT, SLOPE_HEIGHT, FACE_DIP, TOE_BENCH = 0.400, 0.395, 0.330, 61.0, 0.0
 BASE = HEIGHT - SLOPE_HEIGHT
-TOE_X = WIDTH - TOE_BENCH
-CREST_X = TOE_X - SLOPE_HEIGHT / math.tan(math.radians(FACE_DIP))
 UNIT_WEIGHT = 23.8e3
 DENSITY = UNIT_WEIGHT / 9.81
 
@@ -63,36 +61,54 @@ class AdhikaryParams:
     block_E: float = 2.6e9
     block_nu: float = 0.16
     conventional: bool = False
+    # the section (m, degrees); defaults are the experiment's (other sizes: a family of
+    # centrifuge slopes with the same joints and materials)
+    slope_height: float = SLOPE_HEIGHT
+    base_thickness: float = BASE
+    width: float = WIDTH
+    face_dip: float = FACE_DIP
+    toe_bench: float = TOE_BENCH
 
     def with_(self, **changes) -> "AdhikaryParams":
         return replace(self, **changes)
 
 
-def profile() -> list:
+def profile(p: AdhikaryParams | None = None) -> list:
     """The slope section (m), counter-clockwise from the bottom-left corner."""
-    return [tuple(map(float, xy)) for xy in _region().exterior]
+    return [tuple(map(float, xy)) for xy in _region(p or AdhikaryParams()).exterior]
 
 
-def _region() -> Region:
-    return slope_profile(SLOPE_HEIGHT, FACE_DIP, crest_length=CREST_X, toe_length=TOE_BENCH,
-                         base_thickness=BASE, name="rock")
+def _crest_x(p: AdhikaryParams) -> float:
+    return p.width - p.toe_bench - p.slope_height / math.tan(math.radians(p.face_dip))
 
 
-def face():
+def _region(p: AdhikaryParams) -> Region:
+    if _crest_x(p) <= 0:
+        raise ValueError(f"width {p.width} m is too small for a {p.slope_height} m slope at "
+                         f"{p.face_dip} degrees with a {p.toe_bench} m toe bench")
+    return slope_profile(p.slope_height, p.face_dip, crest_length=_crest_x(p),
+                         toe_length=p.toe_bench, base_thickness=p.base_thickness, name="rock")
+
+
+def face(p: AdhikaryParams | None = None):
     """The free face as ((x_toe, y_toe), (x_crest, y_crest)), m."""
-    return (TOE_X, BASE), (CREST_X, HEIGHT)
+    p = p or AdhikaryParams()
+    top = p.base_thickness + p.slope_height
+    return (p.width - p.toe_bench, p.base_thickness), (_crest_x(p), top)
 
 
-def monitoring_points() -> dict:
+def monitoring_points(p: AdhikaryParams | None = None) -> dict:
     """Points A (crest) and B (mid-face), m (module docstring)."""
-    t = math.radians(FACE_DIP)
+    p = p or AdhikaryParams()
+    (tx, ty), (cx, cy) = face(p)
+    t = math.radians(p.face_dip)
     inward = np.array([-math.sin(t), -math.cos(t)])          # into the rock, normal to the face
-    mid = np.array([TOE_X, BASE]) + 0.5 * SLOPE_HEIGHT * np.array([-1 / math.tan(t), 1.0])
-    return {"A": (CREST_X - 0.005, HEIGHT - 0.002), "B": tuple(mid + 0.002 * inward)}
+    mid = 0.5 * (np.array([tx, ty]) + np.array([cx, cy]))
+    return {"A": (cx - 0.005, cy - 0.002), "B": tuple(mid + 0.002 * inward)}
 
 
 def geometry(p: AdhikaryParams) -> GeometrySpec:
-    rock = _region()
+    rock = _region(p)
     bedding = JointSet("bedding", p.joint_dip, p.joint_spacing, dip_direction="left")
     vor = Voronoi(edge_length=p.edge_length, relax_iterations=p.relax_iterations, seed=p.seed)
     return GeometrySpec([rock], joint_sets=[bedding], voronoi={"rock": vor})
@@ -117,6 +133,6 @@ def build_model(p: AdhikaryParams, blocks=None, **model_options) -> Model:
     model.fix(base)
     sides = np.setdiff1d(np.union1d(blocks.touching("left"), blocks.touching("right")), base)
     model.fix(sides, x=True, y=False, rotation=False)
-    for name, xy in monitoring_points().items():
+    for name, xy in monitoring_points(p).items():
         model.add_history_point(name, xy)
     return model

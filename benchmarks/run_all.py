@@ -1,0 +1,54 @@
+"""Run every benchmark: JSON and PNG figures into benchmarks/results/.
+
+    .venv/bin/python benchmarks/run_all.py --quick     # a few minutes on 2 shared cores
+    .venv/bin/python benchmarks/run_all.py --full      # the full grids (tens of minutes)
+
+Runs one after the other (never in parallel: the machine is shared), each in its own process
+so a crash in one does not stop the rest:
+
+- error_vs_time.py   error against run time of the closed-form checks (docs/verification.md)
+- stability_map.py   DEM time-step margin map, continuum Newton map (docs/verification.md)
+- leave_out.py       cost of unused parts, flaws only where needed (docs/performance.md)
+- performance.py     throughput, scaling, step profile, machine limit, continuum s/iteration
+- regression_numbers.py   prints the regression-guard numbers (does not rewrite the reference)
+- full only: continuum_scaling.py (slope and footing refinement), throughput.py --scaling
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    g = ap.add_mutually_exclusive_group()
+    g.add_argument("--quick", action="store_true", help="(default)")
+    g.add_argument("--full", action="store_true")
+    a = ap.parse_args()
+    mode = "--full" if a.full else "--quick"
+    jobs = [["error_vs_time.py", mode], ["stability_map.py", mode], ["leave_out.py", mode],
+            ["performance.py", mode], ["regression_numbers.py"]]
+    if a.full:
+        jobs += [["continuum_scaling.py"], ["throughput.py", "--scaling"]]
+    summary = []
+    for job in jobs:
+        t0 = time.perf_counter()
+        print(f"== {' '.join(job)}", flush=True)
+        r = subprocess.run([sys.executable, str(HERE / job[0]), *job[1:]], cwd=HERE)
+        summary.append({"job": " ".join(job), "returncode": r.returncode,
+                        "seconds": round(time.perf_counter() - t0, 1)})
+        print(f"== {' '.join(job)}: rc {r.returncode}, {summary[-1]['seconds']} s", flush=True)
+    (HERE / "results" / "run_all.json").write_text(json.dumps(
+        {"mode": mode, "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
+         "jobs": summary}, indent=1))
+    sys.exit(max(s["returncode"] for s in summary))
+
+
+if __name__ == "__main__":
+    main()
