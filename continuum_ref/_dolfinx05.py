@@ -157,3 +157,16 @@ def lu_solver(A):
     if PETSc.Sys.hasExternalPackage("mumps"):
         pc.setFactorSolverType("mumps")
     return ksp
+
+
+def solve_linear(ksp, A, b, x) -> bool:
+    """Solve A x = b with ``ksp``; False (instead of an exception) when the factorisation or
+    the solve fails (PETSc error, e.g. MUMPS error 76, or a diverged reason)."""
+    from petsc4py import PETSc
+
+    try:
+        ksp.setOperators(A)
+        ksp.solve(b, x)
+    except PETSc.Error:
+        return False
+    return ksp.getConvergedReason() >= 0

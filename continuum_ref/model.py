@@ -253,8 +253,14 @@ class ContinuumModel:
 
     def _solve_update(self):
         dx.assemble_matrix(self._A, self._J, self._bcs())
-        self._ksp.setOperators(self._A)
-        self._ksp.solve(self._b, self._du.vector)
+        if not dx.solve_linear(self._ksp, self._A, self._b, self._du.vector):
+            # the tangent could not be factorised (e.g. a singular plastic tangent): this
+            # Newton attempt fails (NaN residual) and the load path halves the step; a fresh
+            # solver is made so the failed factorisation does not poison the retry
+            self._ksp.destroy()
+            self._ksp = dx.lu_solver(self._A)
+            self.u.x.array[:] = np.nan
+            return
         self._du.x.scatter_forward()
         self.u.x.array[:] -= self._du.x.array
         self.u.x.scatter_forward()

@@ -196,11 +196,15 @@ def _hb_newton(x_tr, Dp, mat, active, iters=60):
         for q in range(k):
             jacobian[:, :3, 3 + q] = gs[q] @ Dp
             jacobian[:, 3 + q, :3] = gs[q]
-        done = np.max(np.abs(r), axis=1) < 1e-12
+        # a singular local Jacobian (e.g. parallel gradients at a corner with this active
+        # set) means this active set cannot hold the point: it leaves unconverged and the
+        # caller tries the next active set, then the apex
+        singular = ~(np.linalg.cond(jacobian) < 1e12)
+        done = (np.max(np.abs(r), axis=1) < 1e-12) & ~singular
         if done.any():
             tangent[live[done]] = np.linalg.inv(jacobian[done])[:, :3, :3]
             converged[live[done]] = True
-        keep = ~done
+        keep = ~done & ~singular
         live, jacobian, r = live[keep], jacobian[keep], r[keep]
         if live.size == 0:
             break
