@@ -20,6 +20,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .monitor import SolveResult, verdict
+
 __all__ = ["RampRecord", "raise_gravity"]
 
 
@@ -46,7 +48,8 @@ class RampRecord:
 
 
 def raise_gravity(model, g_levels, ratio=1e-4, max_steps=20_000, failure_displacement=None,
-                  progress=None, stop_at_failure=True, ramp_steps=400, creep=None) -> RampRecord:
+                  progress=None, stop_at_failure=True, ramp_steps=400, creep=None,
+                  watch=None) -> RampRecord:
     """Solve the model at each g-level in turn (module docstring); return the record.
 
     Parameters
@@ -61,6 +64,10 @@ def raise_gravity(model, g_levels, ratio=1e-4, max_steps=20_000, failure_displac
     creep : m, passed to ``Model.solve``: a displacement increment below this over the last
         fifth of a level's steps is not "still moving" (slender models creep towards
         equilibrium slowly; a small creep value calls that failure).
+    watch : sequence of history-point names, optional. Judge failure by the motion of these
+        points (e.g. the crest and the face of a slope) instead of the largest displacement of
+        any block, so that a loose block at a model boundary does not count as the failure of
+        the slope. ``failure_displacement`` and ``creep`` then apply to the points.
     ramp_steps : steps over which g moves from one level to the next in 10 equal increments,
         so that a level is not applied as a sudden load (whose dynamic overshoot would break
         bonds a quasi-static load does not). 0 applies each level at once.
@@ -76,8 +83,12 @@ def raise_gravity(model, g_levels, ratio=1e-4, max_steps=20_000, failure_displac
     for g in levels:
         _ramp(model, g_now, float(g), ramp_steps)
         g_now = float(g)
-        res = model.solve(ratio=ratio, max_steps=max_steps,
-                          failure_displacement=failure_displacement, creep=creep)
+        if watch:
+            res = _solve_watching(model, list(watch), ratio, max_steps, failure_displacement,
+                                  creep)
+        else:
+            res = model.solve(ratio=ratio, max_steps=max_steps,
+                              failure_displacement=failure_displacement, creep=creep)
         failed = res.verdict == "failed" or (
             failure_displacement is not None and res.max_displacement > failure_displacement)
         rec.g.append(float(g))
@@ -110,3 +121,34 @@ def _ramp(model, g_from, g_to, steps, increments=10):
             model.set_gravity(g_from + (g_to - g_from) * i / increments)
             model.cycle(max(1, steps // increments))
     model.set_gravity(g_to)
+
+
+def _solve_watching(model, names, ratio, max_steps, failure_displacement, creep, chunk=None):
+    """``Model.solve`` with the displacement test on history points ``names`` (see
+    ``raise_gravity``): equilibrium at ``ratio``, failed when a point moved more than
+    ``failure_displacement`` in this level or, at the step limit, by ``monitor.verdict`` on the
+    points' displacement."""
+    missing = [n for n in names if n not in model.points]
+    if missing:
+        raise ValueError(f"no history point(s) {missing}; add them with add_history_point")
+    chunk = int(chunk or max(model.history.every, 100))
+    start = np.array([model.point_motion(n)[:2] for n in names])
+    steps, disp = [0], [0.0]
+    done, r = 0, float("inf")
+    creep = 0.0 if creep is None else creep
+    while done < max_steps:
+        k = min(chunk, max_steps - done)
+        model.cycle(k)
+        done += k
+        r = model.unbalanced_ratio()
+        now = np.array([model.point_motion(n)[:2] for n in names])
+        d = float(np.hypot(*(now - start).T).max())
+        steps.append(done)
+        disp.append(d)
+        if r <= ratio:
+            return SolveResult("equilibrium", done, r, max(disp), f"ratio {r:.3g} <= {ratio:.3g}")
+        if failure_displacement is not None and d > failure_displacement:
+            return SolveResult("failed", done, r, d, f"a watched point moved {d:.3g} m > "
+                               f"{failure_displacement} m")
+    v, why = verdict(steps, disp, creep)
+    return SolveResult(v, done, r, max(disp), why)

@@ -42,7 +42,8 @@ def test_no_rupture_from_scattered_cracks():
         find_rupture(xy[:, 0], xy[:, 1], link_distance=0.0)
 
 
-def test_gravity_ramp_breaks_a_hanging_block_at_the_closed_form_g_level():
+@pytest.mark.parametrize("watch", [None, ("tip",)])
+def test_gravity_ramp_breaks_a_hanging_block_at_the_closed_form_g_level(watch):
     """A block hangs from a fixed block by one bonded edge of tensile strength T.
 
     Tension on the edge = rho h g N, so it breaks at N = T / (rho h g) (rigid blocks, the
@@ -56,7 +57,7 @@ def test_gravity_ramp_breaks_a_hanging_block_at_the_closed_form_g_level():
     model.add_history_point("tip", (0.05, 0.0))
     n_crit = tensile / (rho * h * 9.81)                       # 20.4 g
     rec = raise_gravity(model, np.arange(2.0, 40.0, 2.0), ratio=1e-5, max_steps=4000,
-                        failure_displacement=0.01)
+                        failure_displacement=0.01, watch=watch)
     assert rec.failure_g is not None
     assert rec.last_stable_g < n_crit <= rec.failure_g
     assert rec.failure_g - rec.last_stable_g == pytest.approx(2.0)
@@ -73,3 +74,5 @@ def test_gravity_ramp_rejects_bad_levels():
         raise_gravity(model, [5.0, 3.0])
     with pytest.raises(ValueError, match="g_levels"):
         raise_gravity(model, [float("nan")])
+    with pytest.raises(ValueError, match="history point"):
+        raise_gravity(model, [1.0], watch=("nowhere",))
