@@ -6,8 +6,9 @@ Methods:
 - ``dem``: the damage model (Voronoi flaws in the columns), gravity raised step by step to
   failure (``dem_core.gravity_ramp``), at several flaw tensile strengths, flaw frictions and a
   lower bedding cohesion; histories of the horizontal displacement at points A (crest) and B
-  (mid-face); the crack log; the rupture surface (``dem_core.rupture``) with its angle to the
-  joint normal and its depth behind the face.
+  (mid-face); the crack log; the rupture surface (``dem_core.rupture``: flaw cracks linked
+  within ``RUPTURE_LINK`` block edges, the largest group reaching the lowest third of the face)
+  with its angle to the joint normal and its depth behind the face.
 - ``conventional``: the same scene with unbreakable flaws (thesis: conventional UDEC).
 - ``continuum``: the same slope in ``continuum_ref`` (Mohr-Coulomb, tension cut-off, the intact
   rock's strength smeared over the mass: the joints are not represented), displacement at A and
@@ -61,6 +62,8 @@ VARIANTS = {
 }
 
 FAILURE_DISPLACEMENT = 0.005     # m in one level: 1.5 % of the slope height
+RUPTURE_LINK = 2.5               # cracks closer than this many block edges are linked
+TOE_PART = 1.0 / 3.0             # the rupture must reach the lowest third of the face
 CREEP = 2e-4                     # m over the last fifth of a level: still moving
 
 
@@ -76,7 +79,8 @@ def run_member(member: dict) -> dict:
     log = model.crack_log()
     flaw = np.array([m.startswith("flaw:") for m in log["material"]], bool)
     rupture = find_rupture(log["x"][flaw], log["y"][flaw],
-                           link_distance=1.6 * params.edge_length, face=scene.face(params))
+                           link_distance=RUPTURE_LINK * params.edge_length,
+                           face=_toe_part_of_face(params))
     out = {
         "label": member["label"], "params": member["params"], "blocks": blocks.n_blocks,
         "contacts": int(model.contacts.n), "g": rec.g, "verdict": rec.verdict,
@@ -95,6 +99,14 @@ def run_member(member: dict) -> dict:
             "depth_m": depth_from_face(rupture.polyline, scene.face(params)),
             "length_m": rupture.length}
     return out
+
+
+def _toe_part_of_face(params):
+    """The lowest ``TOE_PART`` of the face: a toppling rupture runs through the toe (Adhikary
+    et al.: the main fracture "through the toe"), so a crack group that reaches only the crest
+    (tension cracks behind the crest) is not taken for it."""
+    (tx, ty), (cx, cy) = scene.face(params)
+    return (tx, ty), (tx + TOE_PART * (cx - tx), ty + TOE_PART * (cy - ty))
 
 
 def _members(v: dict, seed: int) -> list:
@@ -194,6 +206,11 @@ def _curves_and_figures(result, runs, base_run):
         name = "displacement_" + r["label"].replace("=", "").replace(" ", "_")
         rows = np.column_stack([r["g"], r["ux_A"], r["ux_B"]]) if r["g"] else np.zeros((0, 3))
         result.curves[name] = Curve(["g_level", "ux_A_m", "ux_B_m"], rows)
+    for r in runs:
+        name = "cracks_" + r["label"].replace("=", "").replace(" ", "_")
+        xy = np.asarray(r["crack_xy"]).reshape(-1, 2)
+        result.curves[name] = Curve(["x_m", "y_m", "mode_1tension_2shear"],
+                                    np.column_stack([xy, r["crack_mode"]]))
     ft = [(t, g) for t, g in result.methods["dem"]["failure_g"]]
     result.curves["failure_g_vs_tensile"] = Curve(
         ["tensile_strength_mpa", "failure_g"],
