@@ -11,7 +11,8 @@ so a crash in one does not stop the rest:
 - leave_out.py       cost of unused parts, flaws only where needed (docs/performance.md)
 - performance.py     throughput, scaling, step profile, machine limit, continuum s/iteration
 - regression_numbers.py   prints the regression-guard numbers (does not rewrite the reference)
-- full only: continuum_scaling.py (slope and footing refinement), throughput.py --scaling
+- full only: continuum_scaling.py (slope and footing refinement), throughput.py --scaling,
+  column_bending.py (flexural strength of a Voronoi column against beam theory by block size)
 """
 from __future__ import annotations
 
@@ -35,7 +36,8 @@ def main():
     jobs = [["error_vs_time.py", mode], ["stability_map.py", mode], ["leave_out.py", mode],
             ["performance.py", mode], ["regression_numbers.py"]]
     if a.full:
-        jobs += [["continuum_scaling.py"], ["throughput.py", "--scaling"]]
+        jobs += [["continuum_scaling.py"], ["throughput.py", "--scaling"],
+                 ["column_bending.py", "--edges", "0.006", "0.004", "0.003"]]
     summary = []
     for job in jobs:
         t0 = time.perf_counter()
