@@ -253,5 +253,6 @@ def _curves_and_figures(result, runs, base_run):
         ax.annotate(name, (x, y))
     ax.set_aspect("equal")
     ax.set_title(f"damage model, {base_run['label']}, at failure g = {base_run['failure_g']}")
-    ax.legend(fontsize=7, loc="lower left")
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=7, loc="lower left")
     result.figures["cracks_at_failure"] = fig
