@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import time
 
+import numba
 import numpy as np
 
 from comparisons.results import CaseResult, Curve
@@ -53,12 +54,13 @@ VARIANTS = {
     # quick: coarse blocks and 20 g levels; enough to see the trends (minutes on 2 cores)
     "quick": dict(edge_length=0.006, relax_iterations=10, g_levels=list(range(40, 241, 20)),
                   max_steps=25_000, tensile=[1.1, 1.4], frictions=[], bedding_cohesion=[],
-                  conventional=True, continuum=True, continuum_h=0.012, workers=2),
+                  conventional=True, continuum=True, continuum_h=0.012, workers=1,
+                  threads=2),
     # full: the thesis's runs, 1 g levels
     "full": dict(edge_length=0.004, relax_iterations=50, g_levels=list(range(1, 151)),
                  max_steps=100_000, tensile=[0.8, 0.9, 1.0, 1.1, 1.2, 1.3, 1.4],
                  frictions=[32.0, 25.0], bedding_cohesion=[5e3], conventional=True,
-                 continuum=True, continuum_h=0.006, workers=2),
+                 continuum=True, continuum_h=0.006, workers=1, threads=2),
 }
 
 FAILURE_DISPLACEMENT = 0.005     # m in one level: 1.5 % of the slope height
@@ -72,7 +74,8 @@ def run_member(member: dict) -> dict:
     t0 = time.perf_counter()
     params = scene.AdhikaryParams(**member["params"])
     blocks = build_block_system(scene.geometry(params))
-    model = scene.build_model(params, blocks, mass_scaling=True)
+    threads = min(member.get("threads", 1), numba.config.NUMBA_NUM_THREADS)
+    model = scene.build_model(params, blocks, mass_scaling=True, threads=threads)
     rec = raise_gravity(model, member["g_levels"], ratio=1e-5, max_steps=member["max_steps"],
                         failure_displacement=FAILURE_DISPLACEMENT, creep=CREEP,
                         watch=("A", "B"))
@@ -111,7 +114,7 @@ def _toe_part_of_face(params):
 
 def _members(v: dict, seed: int) -> list:
     base = dict(edge_length=v["edge_length"], relax_iterations=v["relax_iterations"], seed=seed)
-    common = dict(g_levels=v["g_levels"], max_steps=v["max_steps"])
+    common = dict(g_levels=v["g_levels"], max_steps=v["max_steps"], threads=v.get("threads", 1))
     members = [dict(label=f"T={t}", params=dict(base, flaw_tensile=t * MPA), **common)
                for t in v["tensile"]]
     members += [dict(label=f"flaw friction {f:g}", params=dict(base, flaw_friction=f), **common)

@@ -23,6 +23,7 @@ import numpy as np
 from numba import njit
 
 from .forces import add_contact_forces, add_gravity, add_loads, servo_velocities
+from .parallel import add_contact_forces_parallel
 
 __all__ = ["run_steps", "update_rotation", "frequency_bound", "DONE", "NEED_SEARCH", "UNSTABLE"]
 
@@ -84,17 +85,27 @@ def run_steps(nsteps, time, dt, alpha, half_margin, gravity, flags,
               mass, inv_mass, inv_inertia, radius, fixity, velocity_bc, load, active,
               nc, block_a, block_b, point_a, point_b, normal_b, length, kn, ks, material,
               sn, ts, un, us, up, broken, slipping, strength, cracks, crack_count,
-              servo_offsets, servo_blocks, servo_params):
+              servo_offsets, servo_blocks, servo_params, work=None, events=None,
+              table_offsets=None, table_entries=None):
     """Advance up to ``nsteps`` steps; returns (steps done, time, status, block).
 
     ``flags`` = [has_gravity, has_loads, has_servo, check_search] (int64 array). Stops early
     with status 1 (search needed, after completing the step) or 2 (unstable, before moving).
+    With the scratch ``work``/``events`` and the block -> contact table given, the contact
+    forces run on several threads (``parallel.add_contact_forces_parallel``, same results).
     """
     for step in range(nsteps):
         force[:] = 0.0
-        add_contact_forces(nc, block_a, block_b, point_a, point_b, normal_b, length, kn, ks,
-                           material, strength, sn, ts, un, us, up, broken, slipping,
-                           pos, rot, force, time, cracks, crack_count)
+        if work is None:
+            add_contact_forces(nc, block_a, block_b, point_a, point_b, normal_b, length, kn,
+                               ks, material, strength, sn, ts, un, us, up, broken, slipping,
+                               pos, rot, force, time, cracks, crack_count)
+        else:
+            add_contact_forces_parallel(nc, block_a, block_b, point_a, point_b, normal_b,
+                                        length, kn, ks, material, strength, sn, ts, un, us, up,
+                                        broken, slipping, pos, rot, force, time, cracks,
+                                        crack_count, work, events, table_offsets,
+                                        table_entries)
         if flags[2]:
             servo_velocities(servo_offsets, servo_blocks, servo_params, force, velocity_bc)
         if flags[0]:

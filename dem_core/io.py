@@ -24,7 +24,8 @@ _BS_ARRAYS = ("vertices", "vertex_offsets", "centroid", "area", "region_id", "ed
               "edge_p1", "edge_block_a", "edge_block_b", "edge_normal", "edge_length",
               "edge_material")
 _SETTINGS = ("unbreakable", "damping", "safety", "mass_scaling", "fixed_dt", "search_margin",
-             "search_enabled", "new_contact_material", "time", "step", "dt", "critical_dt")
+             "search_enabled", "new_contact_material", "time", "step", "dt", "critical_dt",
+             "threads")
 
 
 def save_model(model, path) -> None:

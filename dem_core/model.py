@@ -63,11 +63,15 @@ class Model:
         the material of most shared edges.
     history_every : int
         Steps between history records.
+    threads : int
+        Threads for the contact forces (1: the serial kernel; more: ``dem_core.parallel``,
+        bit-for-bit the same results). At most numba's thread count (the cores).
     """
 
     def __init__(self, blocks: BlockSystem, materials: dict, density, block_E=None,
                  block_nu=0.25, unbreakable=None, damping=0.8, safety=0.5, mass_scaling=False,
-                 dt=None, search_margin=None, new_contact_material=None, history_every=100):
+                 dt=None, search_margin=None, new_contact_material=None, history_every=100,
+                 threads=1):
         if not isinstance(blocks, BlockSystem):
             raise ValueError(f"blocks must be a BlockSystem, got {type(blocks).__name__}")
         if not (0.0 <= damping < 1.0):
@@ -76,6 +80,13 @@ class Model:
             raise ValueError(f"safety must be in (0, 1], got {safety!r}")
         if dt is not None and not (math.isfinite(dt) and dt > 0):
             raise ValueError(f"dt must be a finite time step > 0 s, got {dt!r}")
+        import numba
+
+        if not (isinstance(threads, (int, np.integer)) and
+                1 <= threads <= numba.config.NUMBA_NUM_THREADS):
+            raise ValueError(f"threads must be an integer in 1..{numba.config.NUMBA_NUM_THREADS}"
+                             f", got {threads!r}")
+        self.threads = int(threads)
         self.blocks = blocks
         self.materials = dict(materials)
         self.unbreakable = unbreakable
@@ -379,6 +390,18 @@ class Model:
         blocks = np.concatenate([g for g, _ in self.servo_groups]).astype(np.int64)
         return offs.astype(np.int64), blocks, np.array([p for _, p in self.servo_groups])
 
+    def _parallel_arrays(self):
+        """Scratch and the block -> contact table for the threaded kernel (empty: serial)."""
+        if self.threads <= 1:
+            return ()
+        import numba
+
+        from .parallel import contact_table
+        numba.set_num_threads(self.threads)
+        c = self.contacts
+        offsets, entries = contact_table(c.n, c.block_a, c.block_b, self.n_blocks)
+        return np.empty((c.n, 4)), np.empty(c.n, np.int64), offsets, entries
+
     def _run(self, n):
         p, s, c = self.props, self.state, self.contacts
         so, sb, sp = self._servo_arrays()
@@ -390,7 +413,8 @@ class Model:
             p.mass, p.inv_mass, p.inv_inertia, p.radius, p.fixity, p.velocity_bc, p.load,
             p.active, c.n, c.block_a, c.block_b, c.point_a, c.point_b, c.normal_b, c.length,
             c.kn, c.ks, c.material, c.sn, c.ts, c.un, c.us, c.up, c.broken, c.slipping,
-            self.table.strength_array(), self.cracks, self.crack_count, so, sb, sp)
+            self.table.strength_array(), self.cracks, self.crack_count, so, sb, sp,
+            *self._parallel_arrays())
         self.step += steps
         if status == integrate.UNSTABLE:
             raise ModelUnstable(self._diagnose(bad))

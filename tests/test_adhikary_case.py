@@ -10,7 +10,7 @@ from comparisons.results import write_results
 
 TINY = dict(edge_length=0.008, relax_iterations=2, g_levels=[40, 60], max_steps=1500,
             tensile=[1.1], frictions=[25.0], bedding_cohesion=[], conventional=True,
-            continuum=False, continuum_h=0.02, workers=1)
+            continuum=False, continuum_h=0.02, workers=1, threads=2)
 
 
 @pytest.fixture(scope="module")
