@@ -217,3 +217,15 @@ def test_bad_geometry_and_points_are_rejected():
         build_mesh([PolygonRegion("bow", [(0, 0), (1, 1), (1, 0), (0, 1)])], h=0.1)
     with pytest.raises(ValueError, match="P"):
         build_mesh([PolygonRegion("sq", _rectangle(1, 1))], h=0.5, points={"P": (2.0, 2.0)})
+
+
+def test_one_slope_gives_a_block_system_and_a_mesh_of_the_same_area():
+    """The shared-geometry path: the Adhikary slope (joints and Voronoi flaws for the DEM) and
+    its DOLFINx mesh cover the same area (relative difference < 1e-6)."""
+    from comparisons.scenes import adhikary as scene
+    from dem_core.geometry import build_block_system
+
+    spec = scene.geometry(scene.AdhikaryParams(edge_length=0.01, relax_iterations=2))
+    blocks = build_block_system(spec)
+    md = mesh_from_geometry(spec, h=0.02)
+    assert md.mesh_area() == pytest.approx(blocks.area.sum(), rel=1e-6)
