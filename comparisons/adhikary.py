@@ -7,7 +7,8 @@ Methods:
   failure (``dem_core.gravity_ramp``), at several flaw tensile strengths, flaw frictions and a
   lower bedding cohesion; histories of the horizontal displacement at points A (crest) and B
   (mid-face); the crack log; the rupture surface (``dem_core.rupture``: flaw cracks linked
-  within ``RUPTURE_LINK`` block edges, the largest group reaching the lowest third of the face)
+  within ``RUPTURE_LINK`` block edges or ``RUPTURE_LINK_BEDS`` bed spacings, the largest group
+  reaching the lowest third of the face)
   with its angle to the joint normal and its depth behind the face.
 - ``conventional``: the same scene with unbreakable flaws (thesis: conventional UDEC).
 - ``continuum``: the same slope in ``continuum_ref`` (Mohr-Coulomb, tension cut-off, the intact
@@ -54,9 +55,10 @@ REFERENCE = {
 # (dem_core.parallel). At ~17k contacts two processes of one thread each beat one process of
 # two threads (the per-step thread start-up is not yet paid back); the results are the same.
 VARIANTS = {
-    # quick: coarse blocks and 20 g levels; enough to see the trends (minutes on 2 cores)
-    "quick": dict(edge_length=0.006, relax_iterations=10, g_levels=list(range(40, 241, 20)),
-                  max_steps=25_000, tensile=[1.1, 1.4], frictions=[], bedding_cohesion=[],
+    # quick: 4 mm blocks (2.5 across a bed: 6 mm beds are far too strong in bending, see
+    # benchmarks/centrifuge_resolution.py) and 20 g levels (minutes on 2 cores)
+    "quick": dict(edge_length=0.004, relax_iterations=10, g_levels=list(range(40, 241, 20)),
+                  max_steps=40_000, tensile=[1.1, 1.4], frictions=[], bedding_cohesion=[],
                   conventional=True, continuum=True, continuum_h=0.012, workers=2,
                   threads=1),
     # full: the thesis's runs, 1 g levels
@@ -67,7 +69,8 @@ VARIANTS = {
 }
 
 FAILURE_DISPLACEMENT = 0.005     # m in one level: 1.5 % of the slope height
-RUPTURE_LINK = 2.5               # cracks closer than this many block edges are linked
+RUPTURE_LINK = 2.5               # cracks closer than this many block edges are linked ...
+RUPTURE_LINK_BEDS = 1.5          # ... or than this many bed spacings (the path crosses beds)
 TOE_PART = 1.0 / 3.0             # the rupture must reach the lowest third of the face
 CREEP = 2e-4                     # m over the last fifth of a level: still moving
 
@@ -85,7 +88,7 @@ def run_member(member: dict) -> dict:
     log = model.crack_log()
     flaw = np.array([m.startswith("flaw:") for m in log["material"]], bool)
     rupture = find_rupture(log["x"][flaw], log["y"][flaw],
-                           link_distance=RUPTURE_LINK * params.edge_length,
+                           link_distance=_link_distance(params),
                            face=_toe_part_of_face(params))
     out = {
         "label": member["label"], "params": member["params"], "blocks": blocks.n_blocks,
@@ -107,6 +110,13 @@ def run_member(member: dict) -> dict:
     return out
 
 
+def _link_distance(params):
+    """Cracks closer than this (m) belong to one rupture: a few block edges within a bed, and
+    one bed spacing and a half across the beds (a rupture through toppling columns has one
+    crack per column, the bedding joint between them)."""
+    return max(RUPTURE_LINK * params.edge_length, RUPTURE_LINK_BEDS * params.joint_spacing)
+
+
 def _toe_part_of_face(params):
     """The lowest ``TOE_PART`` of the face: a toppling rupture runs through the toe (Adhikary
     et al.: the main fracture "through the toe"), so a crack group that reaches only the crest
@@ -118,15 +128,16 @@ def _toe_part_of_face(params):
 def _members(v: dict, seed: int) -> list:
     base = dict(edge_length=v["edge_length"], relax_iterations=v["relax_iterations"], seed=seed)
     common = dict(g_levels=v["g_levels"], max_steps=v["max_steps"], threads=v.get("threads", 1))
-    members = [dict(label=f"T={t}", params=dict(base, flaw_tensile=t * MPA), **common)
-               for t in v["tensile"]]
+    members = []
+    if v["conventional"]:              # first: the longest run (it does not fail early)
+        members.append(dict(label="conventional", params=dict(base, conventional=True),
+                            **common))
+    members += [dict(label=f"T={t}", params=dict(base, flaw_tensile=t * MPA), **common)
+                for t in v["tensile"]]
     members += [dict(label=f"flaw friction {f:g}", params=dict(base, flaw_friction=f), **common)
                 for f in v["frictions"]]
     members += [dict(label=f"bedding c {c / 1e3:g} kPa", params=dict(base, bedding_cohesion=c),
                      **common) for c in v["bedding_cohesion"]]
-    if v["conventional"]:
-        members.append(dict(label="conventional", params=dict(base, conventional=True),
-                            **common))
     return members
 
 
