@@ -8,8 +8,8 @@ a time) shows how many blocks across a column the damage model needs in bending.
 
     python benchmarks/column_bending.py [--edges 0.006 0.004 0.003]
 
-Prints one JSON line per block size: edge_m, blocks, failure_g, last_stable_g, beam_theory_g,
-ratio, seconds.
+Prints one JSON line per block size (edge_m, blocks, failure_g, last_stable_g, beam_theory_g,
+ratio, seconds) and writes benchmarks/results/column_bending.json and .png.
 """
 from __future__ import annotations
 
@@ -17,6 +17,7 @@ import argparse
 import json
 import math
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -68,8 +69,24 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--edges", type=float, nargs="+", default=[0.006, 0.004])
     args = parser.parse_args(argv)
+    rows = []
     for edge in args.edges:
-        print(json.dumps(run(edge)), flush=True)
+        rows.append(run(edge))
+        print(json.dumps(rows[-1]), flush=True)
+    out = Path(__file__).parent / "results"
+    out.mkdir(exist_ok=True)
+    (out / "column_bending.json").write_text(json.dumps({"rows": rows}, indent=2))
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(5, 4))
+    ax.plot([1e3 * r["edge_m"] for r in rows], [r["failure_g"] for r in rows], "o-",
+            label="damage model (failure g)")
+    ax.axhline(rows[0]["beam_theory_g"], color="k", ls="--", label="Euler-Bernoulli")
+    ax.set_xlabel("block edge (mm)")
+    ax.set_ylabel("g-level at which the column breaks")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out / "column_bending.png", dpi=110)
 
 
 if __name__ == "__main__":

@@ -12,7 +12,8 @@ so a crash in one does not stop the rest:
 - performance.py     throughput, scaling, step profile, machine limit, continuum s/iteration
 - regression_numbers.py   prints the regression-guard numbers (does not rewrite the reference)
 - full only: continuum_scaling.py (slope and footing refinement), throughput.py --scaling,
-  column_bending.py (flexural strength of a Voronoi column against beam theory by block size)
+  column_bending.py (flexural strength of a Voronoi column against beam theory by block size),
+  centrifuge_resolution.py (Adhikary failure g against block size and run time)
 """
 from __future__ import annotations
 
@@ -37,7 +38,8 @@ def main():
             ["performance.py", mode], ["regression_numbers.py"]]
     if a.full:
         jobs += [["continuum_scaling.py"], ["throughput.py", "--scaling"],
-                 ["column_bending.py", "--edges", "0.006", "0.004", "0.003"]]
+                 ["column_bending.py", "--edges", "0.006", "0.004", "0.003"],
+                 ["centrifuge_resolution.py", "--edges", "0.006", "0.004"]]
     summary = []
     for job in jobs:
         t0 = time.perf_counter()
