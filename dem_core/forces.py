@@ -13,51 +13,71 @@ from .law import coulomb_law
 __all__ = ["add_contact_forces", "add_gravity", "add_loads", "servo_velocities"]
 
 
+@njit(cache=True, inline="always")
+def contact_update(k, block_a, block_b, point_a, point_b, normal_b, length, kn, ks, material,
+                   strength, sn, ts, un, us, up, broken, slipping, pos, rot):
+    """One contact: geometry (contacts.py) and the law (law.py); updates the contact's state
+    and returns (fx, fy, xa, ya, event): the force on B (N/m; minus it on A), the contact point
+    (m) and the law's event (1 tension failure, 2 shear failure, 3 slip). Shared by the serial
+    kernel below and the threaded one (``parallel.py``), so both compute the same numbers."""
+    a = block_a[k]
+    b = block_b[k]
+    ca, sa = rot[a, 0], rot[a, 1]
+    cb, sb = rot[b, 0], rot[b, 1]
+    xa = pos[a, 0] + ca * point_a[k, 0] - sa * point_a[k, 1]
+    ya = pos[a, 1] + sa * point_a[k, 0] + ca * point_a[k, 1]
+    dx = pos[b, 0] + cb * point_b[k, 0] - sb * point_b[k, 1] - xa
+    dy = pos[b, 1] + sb * point_b[k, 0] + cb * point_b[k, 1] - ya
+    nx = cb * normal_b[k, 0] - sb * normal_b[k, 1]
+    ny = sb * normal_b[k, 0] + cb * normal_b[k, 1]
+    u_n = dx * nx + dy * ny
+    u_s = dy * nx - dx * ny
+    s_n, t_s, u_p, event = coulomb_law(u_n, u_s, up[k], kn[k], ks[k], strength,
+                                       material[k], broken[k])
+    sn[k] = s_n
+    ts[k] = t_s
+    un[k] = u_n
+    us[k] = u_s
+    up[k] = u_p
+    slipping[k] = 1 if (event == 2 or event == 3) else 0
+    if event == 1 or event == 2:
+        broken[k] = event
+    L = length[k]
+    return L * (s_n * nx - t_s * ny), L * (s_n * ny + t_s * nx), xa, ya, event
+
+
+@njit(cache=True, inline="always")
+def log_crack(cracks, crack_count, time, xa, ya, event, a, b, m):
+    """Append a failure (rows [time, x, y, mode, block_a, block_b, material])."""
+    i = crack_count[0]
+    if i < cracks.shape[0]:
+        cracks[i, 0] = time
+        cracks[i, 1] = xa
+        cracks[i, 2] = ya
+        cracks[i, 3] = event
+        cracks[i, 4] = a
+        cracks[i, 5] = b
+        cracks[i, 6] = m
+    crack_count[0] = i + 1
+
+
 @njit(cache=True)
 def add_contact_forces(nc, block_a, block_b, point_a, point_b, normal_b, length, kn, ks,
                        material, strength, sn, ts, un, us, up, broken, slipping,
                        pos, rot, f, time, cracks, crack_count):
-    """All contacts: geometry (contacts.py), the law (law.py), forces on both blocks.
+    """All contacts (``contact_update``), forces added to both blocks in contact order.
 
     ``rot`` is (nb, 2) [cos theta, sin theta]. A new failure is appended to ``cracks``
     (rows [time, x, y, mode, block_a, block_b, material]) at ``crack_count[0]``.
     """
     for k in range(nc):
+        fx, fy, xa, ya, event = contact_update(k, block_a, block_b, point_a, point_b, normal_b,
+                                               length, kn, ks, material, strength, sn, ts, un,
+                                               us, up, broken, slipping, pos, rot)
         a = block_a[k]
         b = block_b[k]
-        ca, sa = rot[a, 0], rot[a, 1]
-        cb, sb = rot[b, 0], rot[b, 1]
-        xa = pos[a, 0] + ca * point_a[k, 0] - sa * point_a[k, 1]
-        ya = pos[a, 1] + sa * point_a[k, 0] + ca * point_a[k, 1]
-        dx = pos[b, 0] + cb * point_b[k, 0] - sb * point_b[k, 1] - xa
-        dy = pos[b, 1] + sb * point_b[k, 0] + cb * point_b[k, 1] - ya
-        nx = cb * normal_b[k, 0] - sb * normal_b[k, 1]
-        ny = sb * normal_b[k, 0] + cb * normal_b[k, 1]
-        u_n = dx * nx + dy * ny
-        u_s = dy * nx - dx * ny
-        s_n, t_s, u_p, event = coulomb_law(u_n, u_s, up[k], kn[k], ks[k], strength,
-                                           material[k], broken[k])
-        sn[k] = s_n
-        ts[k] = t_s
-        un[k] = u_n
-        us[k] = u_s
-        up[k] = u_p
-        slipping[k] = 1 if (event == 2 or event == 3) else 0
         if event == 1 or event == 2:
-            broken[k] = event
-            i = crack_count[0]
-            if i < cracks.shape[0]:
-                cracks[i, 0] = time
-                cracks[i, 1] = xa
-                cracks[i, 2] = ya
-                cracks[i, 3] = event
-                cracks[i, 4] = a
-                cracks[i, 5] = b
-                cracks[i, 6] = material[k]
-            crack_count[0] = i + 1
-        L = length[k]
-        fx = L * (s_n * nx - t_s * ny)
-        fy = L * (s_n * ny + t_s * nx)
+            log_crack(cracks, crack_count, time, xa, ya, event, a, b, material[k])
         f[b, 0] += fx
         f[b, 1] += fy
         f[b, 2] += (xa - pos[b, 0]) * fy - (ya - pos[b, 1]) * fx

@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from .law import coulomb_law
+from .forces import contact_update, log_crack
 
 __all__ = ["contact_table", "add_contact_forces_parallel"]
 
@@ -50,47 +50,19 @@ def add_contact_forces_parallel(nc, block_a, block_b, point_a, point_b, normal_b
     """Same inputs and effect as ``forces.add_contact_forces``; ``work`` (>= nc, 4) and
     ``events`` (>= nc,) are scratch, ``table_*`` from ``contact_table``."""
     for k in prange(nc):
-        a = block_a[k]
-        b = block_b[k]
-        ca, sa = rot[a, 0], rot[a, 1]
-        cb, sb = rot[b, 0], rot[b, 1]
-        xa = pos[a, 0] + ca * point_a[k, 0] - sa * point_a[k, 1]
-        ya = pos[a, 1] + sa * point_a[k, 0] + ca * point_a[k, 1]
-        dx = pos[b, 0] + cb * point_b[k, 0] - sb * point_b[k, 1] - xa
-        dy = pos[b, 1] + sb * point_b[k, 0] + cb * point_b[k, 1] - ya
-        nx = cb * normal_b[k, 0] - sb * normal_b[k, 1]
-        ny = sb * normal_b[k, 0] + cb * normal_b[k, 1]
-        u_n = dx * nx + dy * ny
-        u_s = dy * nx - dx * ny
-        s_n, t_s, u_p, event = coulomb_law(u_n, u_s, up[k], kn[k], ks[k], strength,
-                                           material[k], broken[k])
-        sn[k] = s_n
-        ts[k] = t_s
-        un[k] = u_n
-        us[k] = u_s
-        up[k] = u_p
-        slipping[k] = 1 if (event == 2 or event == 3) else 0
+        fx, fy, xa, ya, event = contact_update(k, block_a, block_b, point_a, point_b, normal_b,
+                                               length, kn, ks, material, strength, sn, ts, un,
+                                               us, up, broken, slipping, pos, rot)
         events[k] = event
-        if event == 1 or event == 2:
-            broken[k] = event
-        L = length[k]
-        work[k, 0] = L * (s_n * nx - t_s * ny)
-        work[k, 1] = L * (s_n * ny + t_s * nx)
+        work[k, 0] = fx
+        work[k, 1] = fy
         work[k, 2] = xa
         work[k, 3] = ya
     for k in range(nc):                      # the crack log, in contact order
         event = events[k]
         if event == 1 or event == 2:
-            i = crack_count[0]
-            if i < cracks.shape[0]:
-                cracks[i, 0] = time
-                cracks[i, 1] = work[k, 2]
-                cracks[i, 2] = work[k, 3]
-                cracks[i, 3] = event
-                cracks[i, 4] = block_a[k]
-                cracks[i, 5] = block_b[k]
-                cracks[i, 6] = material[k]
-            crack_count[0] = i + 1
+            log_crack(cracks, crack_count, time, work[k, 2], work[k, 3], event, block_a[k],
+                      block_b[k], material[k])
     nb = table_offsets.shape[0] - 1
     for i in prange(nb):
         for j in range(table_offsets[i], table_offsets[i + 1]):
