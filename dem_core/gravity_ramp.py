@@ -15,6 +15,7 @@ last stable level before it.
 """
 from __future__ import annotations
 
+import copy
 import time
 from dataclasses import dataclass, field
 
@@ -33,6 +34,8 @@ class RampRecord:
     point_ux, point_uy : name -> horizontal / vertical displacement (m) of each history point at
     the end of each level; cracks : total crack count after each level;
     failure_g : the first failed g-level (None if none failed); last_stable_g; seconds.
+    Levels run by the bisection of ``refine_to`` are appended in the order they were run, so
+    ``g`` is then no longer increasing; ``refined`` holds their number.
     """
 
     g: list = field(default_factory=list)
@@ -44,12 +47,13 @@ class RampRecord:
     cracks: list = field(default_factory=list)
     failure_g: float | None = None
     last_stable_g: float | None = None
+    refined: int = 0
     seconds: float = 0.0
 
 
 def raise_gravity(model, g_levels, ratio=1e-4, max_steps=20_000, failure_displacement=None,
                   progress=None, stop_at_failure=True, ramp_steps=400, creep=None,
-                  watch=None) -> RampRecord:
+                  watch=None, refine_to=None) -> RampRecord:
     """Solve the model at each g-level in turn (module docstring); return the record.
 
     Parameters
@@ -71,18 +75,27 @@ def raise_gravity(model, g_levels, ratio=1e-4, max_steps=20_000, failure_displac
     ramp_steps : steps over which g moves from one level to the next in 10 equal increments,
         so that a level is not applied as a sudden load (whose dynamic overshoot would break
         bonds a quasi-static load does not). 0 applies each level at once.
+    refine_to : g, optional. After the first failure, bisect between the last stable and the
+        failed level until they are at most this far apart (module docstring). Needs
+        ``stop_at_failure``.
     """
     levels = np.asarray(list(g_levels), dtype=float)
     if levels.size == 0 or not np.all(np.isfinite(levels)) or np.any(levels <= 0):
         raise ValueError(f"g_levels must be finite and > 0, got {levels.tolist()}")
     if np.any(np.diff(levels) <= 0):
         raise ValueError("g_levels must increase")
+    if refine_to is not None:
+        if not (np.isfinite(refine_to) and refine_to > 0):
+            raise ValueError(f"refine_to must be finite and > 0 (g), got {refine_to}")
+        if not stop_at_failure:
+            raise ValueError("refine_to needs stop_at_failure=True")
     rec = RampRecord()
     t0 = time.perf_counter()
     g_now = 0.0
-    for g in levels:
-        _ramp(model, g_now, float(g), ramp_steps)
-        g_now = float(g)
+    stable_state = _snapshot(model) if refine_to is not None else None
+
+    def level(g_from, g):
+        _ramp(model, g_from, g, ramp_steps)
         if watch:
             res = _solve_watching(model, list(watch), ratio, max_steps, failure_displacement,
                                   creep)
@@ -91,27 +104,66 @@ def raise_gravity(model, g_levels, ratio=1e-4, max_steps=20_000, failure_displac
                               failure_displacement=failure_displacement, creep=creep)
         failed = res.verdict == "failed" or (
             failure_displacement is not None and res.max_displacement > failure_displacement)
-        rec.g.append(float(g))
-        rec.verdict.append("failed" if failed else res.verdict)
-        rec.steps.append(res.steps)
-        rec.max_displacement.append(res.max_displacement)
-        for name in model.points:
-            ux, uy, _, _ = model.point_motion(name)
-            rec.point_ux.setdefault(name, []).append(ux)
-            rec.point_uy.setdefault(name, []).append(uy)
-        counts = model.crack_counts()
-        rec.cracks.append(counts["tension"] + counts["shear"])
-        if progress:
-            progress(f"g = {g:5.1f}: {rec.verdict[-1]} after {res.steps} steps, "
-                     f"ratio {res.ratio:.2e}, cracks {rec.cracks[-1]}")
+        _record(rec, model, g, res, failed, progress)
+        return failed
+
+    for g in levels:
+        failed = level(g_now, float(g))
+        g_now = float(g)
         if failed:
             rec.failure_g = float(g)
             if stop_at_failure:
                 break
         elif rec.failure_g is None:
             rec.last_stable_g = float(g)
+            if refine_to is not None:
+                stable_state = _snapshot(model)
+    if refine_to is not None and rec.failure_g is not None:
+        _bisect(rec, model, level, stable_state, refine_to)
     rec.seconds = time.perf_counter() - t0
     return rec
+
+
+def _bisect(rec, model, level, stable_state, refine_to):
+    """Narrow [last stable, failed] to ``refine_to`` g from the stable state (docstring)."""
+    failed_state = _snapshot(model)
+    low = rec.last_stable_g or 0.0
+    while rec.failure_g - low > refine_to * (1 + 1e-9):
+        mid = 0.5 * (low + rec.failure_g)
+        _restore(model, stable_state)
+        rec.refined += 1
+        if level(low, mid):
+            rec.failure_g = mid
+            failed_state = _snapshot(model)
+        else:
+            low = rec.last_stable_g = mid
+            stable_state = _snapshot(model)
+    _restore(model, failed_state)
+
+
+def _snapshot(model):
+    """An in-memory copy of everything the model's next step reads."""
+    return copy.deepcopy(model.__dict__)
+
+
+def _restore(model, snapshot):
+    model.__dict__.update(copy.deepcopy(snapshot))
+
+
+def _record(rec, model, g, res, failed, progress):
+    rec.g.append(float(g))
+    rec.verdict.append("failed" if failed else res.verdict)
+    rec.steps.append(res.steps)
+    rec.max_displacement.append(res.max_displacement)
+    for name in model.points:
+        ux, uy, _, _ = model.point_motion(name)
+        rec.point_ux.setdefault(name, []).append(ux)
+        rec.point_uy.setdefault(name, []).append(uy)
+    counts = model.crack_counts()
+    rec.cracks.append(counts["tension"] + counts["shear"])
+    if progress:
+        progress(f"g = {g:5.1f}: {rec.verdict[-1]} after {res.steps} steps, "
+                 f"ratio {res.ratio:.2e}, cracks {rec.cracks[-1]}")
 
 
 def _ramp(model, g_from, g_to, steps, increments=10):

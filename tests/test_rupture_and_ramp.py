@@ -67,6 +67,25 @@ def test_gravity_ramp_breaks_a_hanging_block_at_the_closed_form_g_level(watch):
     assert -rec.point_uy["tip"][i] == pytest.approx(rho * h * 9.81 * rec.g[i] / 1e10, rel=0.02)
 
 
+def test_gravity_ramp_bisection_brackets_the_closed_form_g_level_finely():
+    """Coarse 10 g levels refined to 1.25 g bracket the hanging block's N = T / (rho h g)."""
+    h, w, rho, tensile = 0.1, 0.1, 2500.0, 50e3
+    mat = Material(kn=1e10, ks=1e10, tensile_strength=tensile, cohesion=1e6, friction=30)
+    model = Model(brick_grid(1, 2, w, h), {"flaw:*": mat}, density=rho, damping=0.8)
+    model.fix("top")
+    model.add_history_point("tip", (0.05, 0.0))
+    n_crit = tensile / (rho * h * 9.81)                       # 20.4 g
+    rec = raise_gravity(model, [10.0, 30.0, 50.0], ratio=1e-5, max_steps=4000,
+                        failure_displacement=0.01, watch=("tip",), refine_to=1.25)
+    assert rec.last_stable_g < n_crit <= rec.failure_g
+    assert rec.failure_g - rec.last_stable_g <= 1.25 + 1e-9
+    assert rec.refined == 4 and rec.g[:2] == [10.0, 30.0]
+    # the model is left in its failed state: the bond is broken
+    assert model.crack_counts()["tension"] >= 1     # (both points of the bonded edge)
+    with pytest.raises(ValueError, match="refine_to"):
+        raise_gravity(model, [1.0], refine_to=0.0)
+
+
 def test_gravity_ramp_rejects_bad_levels():
     bs = brick_grid(1, 2, 0.1, 0.1)
     model = Model(bs, {"flaw:*": Material(kn=1e10, ks=1e10)}, density=2500.0)
