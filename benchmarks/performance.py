@@ -4,8 +4,9 @@ time per Newton iteration against dofs.
     .venv/bin/python benchmarks/performance.py [--quick | --full]
 
 - Scaling: ``throughput.run`` (bonded Voronoi square on a fixed base at 50 g) for 1e3..1e4
-  (quick) or 1e3..1e5 (full) blocks. The kernels are serial (no ``prange``): threads = 1, so
-  contact updates per second per core is the same as per process.
+  (quick) or 1e3..1e5 (full) blocks, with 1 thread (the serial kernel) and 2 threads (the
+  threaded kernel of ``dem_core.parallel``, ``Model(threads=2)``); contact updates per second
+  per core = updates / s / threads, and the speed-up of 2 threads over 1 at each size.
 - Profile: the parts of one step timed separately on one specimen by calling the same numba
   kernels the step calls (``forces.add_contact_forces``, ``integrate.advance``,
   ``integrate.update_rotation``, the zeroing of the force array, ``forces.add_gravity``).
@@ -146,8 +147,10 @@ def plot(out, path):
     fig, axes = plt.subplots(1, 3, figsize=(17, 4.8))
     sc = out["scaling"]
     ax = axes[0]
-    ax.loglog([r["blocks"] for r in sc], [r["contact_updates_per_s_per_core"] for r in sc],
-              "o-", label="measured (1 thread, serial kernel)")
+    for threads, mk in ((1, "o-"), (2, "s--")):
+        rows = [r for r in sc if r["threads"] == threads]
+        ax.loglog([r["blocks"] for r in rows], [r["contact_updates_per_s_per_core"] for r in rows],
+                  mk, label=f"measured, {threads} thread{'s' * (threads > 1)} (per core)")
     lim = out["machine_limit"]["bandwidth_bound_updates_per_s"]
     ax.axhline(lim, color="r", ls="--", label=f"memory-bandwidth bound ({lim:.2g}/s)")
     ax.set_xlabel("blocks")
@@ -182,22 +185,31 @@ def main(argv=None):
     g.add_argument("--quick", action="store_true")
     g.add_argument("--full", action="store_true")
     a = ap.parse_args(argv)
-    out = {"machine": scenes.machine(), "mode": "full" if a.full else "quick", "threads": 1,
-           "note": "serial numba kernels (no prange): 1 thread; a 2-thread run is not possible "
-                   "without a parallel kernel"}
+    out = {"machine": scenes.machine(), "mode": "full" if a.full else "quick",
+           "threads": [1, 2],
+           "note": "1 thread: serial kernel; 2 threads: dem_core.parallel (bit-identical); "
+                   "per core = per thread"}
     t0 = time.perf_counter()
     out["bandwidth"] = bandwidth()
     print(f"bandwidth: copy {out['bandwidth']['copy_GB_s']:.1f} GB/s")
     sizes = [1000, 3000, 10_000] if not a.full else [1000, 3000, 10_000, 30_000, 100_000]
     out["scaling"] = []
+    out["speedup_2_threads"] = []
     for n in sizes:
-        r = throughput.run(n, 300 if n <= 10_000 else 200)
-        out["scaling"].append(r)
-        print(f"  {r['blocks']} blocks: {r['contact_updates_per_s_per_core']:.3g} updates/s")
+        pair = {}
+        for threads in (1, 2):
+            r = throughput.run(n, 300 if n <= 10_000 else 200, threads=threads)
+            out["scaling"].append(r)
+            pair[threads] = r
+            print(f"  {r['blocks']} blocks, {threads} thread(s): "
+                  f"{r['contact_updates_per_s_per_core']:.3g} updates/s/core")
+        out["speedup_2_threads"].append(
+            {"blocks": pair[1]["blocks"],
+             "speedup": pair[1]["seconds_per_step"] / pair[2]["seconds_per_step"]})
     out["profile"] = profile(10_000 if not a.full else 30_000)
     print("  profile:", {k: round(v, 3) for k, v in out["profile"]["parts_fraction_of_sum"].items()})
     bw = out["bandwidth"]["copy_GB_s"] * 1e9
-    best = max(r["contact_updates_per_s_per_core"] for r in out["scaling"])
+    best = max(r["contact_updates_per_s_per_core"] for r in out["scaling"] if r["threads"] == 1)
     out["machine_limit"] = {
         "bytes_per_contact_update": BYTES_PER_CONTACT, "flops_per_contact_update":
             FLOPS_PER_CONTACT, "bandwidth_bound_updates_per_s": bw / BYTES_PER_CONTACT,

@@ -271,7 +271,12 @@ def run(variant: str = "quick", seed: int = 1, progress=None) -> CaseResult:
     lo_hi = (lsns[0], lsns[-1])
     add("lajtai_open", lsns, pic=lo_hi, joints="open", k=scene.LAJTAI_PERSISTENCE)
     add("lajtai_closed", lsns, pic=lo_hi, joints="closed", k=scene.LAJTAI_PERSISTENCE)
-    study = dict(friction=STUDY_FRICTION, joint_friction=STUDY_FRICTION, tensile=STUDY_TENSILE)
+    # thesis 3.6-3.8 give these studies Table 3.1's properties with friction 30 and T 1.0 MPa:
+    # the flaw cohesion is Table 3.1's 1.2 MPa, as in their reference envelopes, not our
+    # calibrated value (ours reaches 4.1 MPa only at c ~ 0, where the halves of the k = 1
+    # specimen break up under the box instead of sliding on the joint)
+    study = dict(friction=STUDY_FRICTION, joint_friction=STUDY_FRICTION, tensile=STUDY_TENSILE,
+                 cohesion=scene.THESIS_COHESION)
     for k in cfg["persistence"]:
         add(f"persistence_k{k:g}", sns, pic=(sns[0],) if k in (0.0, 0.5) else (),
             joints="closed" if k > 0 else "none", k=k, **study)
@@ -435,11 +440,15 @@ def _notes(cfg):
         f"Direct-shear specimen {scene.SHEAR_LENGTH * 1e3:g} x {scene.SHEAR_HEIGHT * 1e3:g} mm, "
         "shear plane at mid-height, split box with glued plates and frictionless walls, the "
         "gap between the halves' walls 1/3 of the height; constant normal stress by a servo on "
-        "the upper box, the lower box moved in +x. Shear stress = box force / total length.",
+        "the upper box, the lower box moved in +x. Shear stress = upper-box force / total "
+        "length.",
         f"Lajtai's specimens taken with k = {scene.LAJTAI_PERSISTENCE} (joints from both ends); "
         f"open joints are {scene.SLOT_HEIGHT * 1e3:g} mm slots.",
-        "Flaw cohesion of the shear studies and the tension test = the calibrated cohesion if "
-        "the calibration converged, else the thesis's 1.2 MPa ('cohesion_used_mpa').",
+        "Flaw cohesion of Lajtai's specimens and the tension test = the calibrated cohesion if "
+        "the calibration converged, else the thesis's 1.2 MPa ('cohesion_used_mpa'); the "
+        "persistence, tensile-strength and scale studies use Table 3.1's 1.2 MPa (thesis 3.6).",
+        "Direct-shear stress is read on the stationary upper box (the moving box also carries "
+        "the start-up inertia of the lower half).",
         "Loading rates are platen / box displacements per time step (mass scaling sets the "
         "step); the UCS rate check reruns at half the rate.",
         "UCS = peak stress up to the strain limit "

@@ -13,6 +13,7 @@ import importlib
 CASES = {
     "lajtai": "comparisons.lajtai",
     "adhikary": "comparisons.adhikary",
+    "longtan": "comparisons.longtan",
 }
 
 DEMO_CASE = "adhikary"

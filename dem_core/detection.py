@@ -5,13 +5,15 @@ margin since the last search (``integrate.run_steps`` status 1):
 
 1. Broad phase: axis-aligned boxes grown by the margin, binned on a uniform grid; a pair is
    reported once, by the cell holding the lower-left corner of the two boxes' overlap.
-2. Narrow phase: each vertex of A against B: the edge of B with the largest signed distance
-   (the nearest edge for a vertex inside B; at a corner tie, the edge facing A's wedge); a
+2. Narrow phase: each vertex of A against B: among the edges of B the vertex supports (A's
+   edges at the vertex do not run into it, ``_supports``), the one with the largest signed
+   distance (the nearest for a vertex inside B; at a corner tie, the edge facing A's wedge); a
    candidate if that distance (or the distance to the edge's segment, near a corner) is below
    the margin and the vertex's wedge faces the edge.
 3. Survivors keep their history: an intact bonded contact (its material has peak T or c
-   above the residual, or is glued) always survives; any other survives while its gap is below the margin and its point still projects onto
-   B's edge (within the margin).
+   above the residual, or is glued) always survives; any other survives while its gap is
+   below the margin, its point still projects onto B's edge (within the margin) and its
+   vertex still supports that edge.
    A point of a shared edge that is not a vertex of A survives its bond only while the two
    faces stay parallel (relative rotation below 0.2 rad).
 4. A candidate becomes a new, unbonded contact with the material of the face of B it touches
@@ -29,7 +31,12 @@ from numba import njit
 
 from .contacts import INTACT, UNBONDED, Contacts
 
-__all__ = ["update_contacts", "compact", "block_containing", "world_vertices", "grid_pairs"]
+__all__ = ["update_contacts", "compact", "block_containing", "world_vertices", "grid_pairs",
+           "SUPPORT_SLOPE"]
+
+# A vertex contacts a face only while neither of its block's edges at the vertex runs into
+# that face steeper than this slope (sin of about 11.5 deg; ``_supports``).
+SUPPORT_SLOPE = 0.2
 
 
 @njit(cache=True)
@@ -141,18 +148,44 @@ def _diagonal_at_crossing(wv, offsets, B, be, f, x, y, a1x, a1y, a2x, a2y, margi
 
 
 @njit(cache=True)
-def _vertex_candidates(A, B, wv, offsets, lo, hi, margin, covered, out, n):
+def _supports(wv, offsets, A, v, ox, oy, slope):
+    """True if vertex v is block A's deepest point towards B's face of outward normal (ox, oy),
+    within ``slope``: neither of A's two edges at v runs into B (edge direction . normal
+    >= -slope, i.e. tilted by less than asin(slope) towards the face).
+
+    A vertex pressed into a face can only be pushed out along that face's normal if the rest
+    of A lies behind it. Near B's corner a vertex can be nearer to the adjacent face's line
+    than to the face it really rests on (two blocks' corners meeting on a joint: the lower
+    block's corner sits 1 um from the upper block's free end face and 30 um into its joint
+    face); a contact with the end face there would be a spring across the joint that locks the
+    slip, growing with the shear. Edge-to-edge contacts (A's edge along B's face, slope 0)
+    pass while the faces are within asin(slope) of parallel.
+    """
+    vn = v + 1 if v + 1 < offsets[A + 1] else offsets[A]
+    vp = v - 1 if v > offsets[A] else offsets[A + 1] - 1
+    for w in (vn, vp):
+        ex, ey = wv[w, 0] - wv[v, 0], wv[w, 1] - wv[v, 1]
+        if ex * ox + ey * oy < -slope * math.hypot(ex, ey):
+            return False
+    return True
+
+
+@njit(cache=True)
+def _vertex_candidates(A, B, wv, offsets, lo, hi, margin, covered, slope, out, n):
     """Append candidates (A, vertex, B, edge) of A's vertices near B to ``out``.
 
-    The edge is the one with the largest outward signed distance; where edges tie (a vertex at
-    or beside B's corner) the one that faces A's wedge best (most negative dot of B's normal
-    with the normals of A's two edges at the vertex). A vertex outside B whose wedge does not
-    face the edge (both dots >= -0.05: side by side) is no contact.
+    The edge is chosen among B's faces that A's vertex supports (``_supports``): for a vertex
+    outside B, those at the largest outward signed distance (the face(s) it is outside of);
+    for a vertex inside B, the nearest supported face if it is at most ``margin`` deeper than
+    the nearest face. Where faces tie (a vertex at or beside
+    B's corner) the one that faces A's wedge best (most negative dot of B's normal with the
+    normals of A's two edges at the vertex). A vertex outside B whose wedge does not face the
+    edge (both dots >= -0.05: side by side) is no contact.
 
     A face of B that an intact bond glues to a neighbour (``covered``) cannot be touched: it is
-    never chosen, and a vertex whose nearest faces of B are all covered gets no contact (a
-    vertex sliding past the corner between two bonded blocks must meet the next block's face,
-    not the buried side face between them, which would lock the slip).
+    never chosen, and a vertex outside B whose nearest faces of B are all covered gets no
+    contact (a vertex sliding past the corner between two bonded blocks must meet the next
+    block's face, not the buried side face between them, which would lock the slip).
     """
     tie = 1e-3 * margin
     for v in range(offsets[A], offsets[A + 1]):
@@ -168,15 +201,28 @@ def _vertex_candidates(A, B, wv, offsets, lo, hi, margin, covered, out, n):
         vp = v - 1 if v > offsets[A] else offsets[A + 1] - 1
         a1x, a1y = _outward(wv, offsets, A, v)
         a2x, a2y = _outward(wv, offsets, A, vp)
+        # nearest eligible face: outside B only the faces at `best`; inside, a supported face
+        # at most a margin deeper than the nearest one (a vertex that just grazes a face it
+        # does not support is the other block's vertex's contact, not one with a far face)
+        low = best - tie if best >= 0.0 else best - margin
+        near = -np.inf
+        for e in range(offsets[B], offsets[B + 1]):
+            ox, oy = _outward(wv, offsets, B, e)
+            d = (x - wv[e, 0]) * ox + (y - wv[e, 1]) * oy
+            if covered[e] or d < low or not _supports(wv, offsets, A, v, ox, oy, slope):
+                continue
+            near = max(near, d)
+        if near == -np.inf:
+            continue
         be, bf = -1, np.inf
         for e in range(offsets[B], offsets[B + 1]):
-            if covered[e]:
-                continue
             ox, oy = _outward(wv, offsets, B, e)
-            if (x - wv[e, 0]) * ox + (y - wv[e, 1]) * oy >= best - tie:
-                facing = min(ox * a1x + oy * a1y, ox * a2x + oy * a2y)
-                if facing < bf:
-                    be, bf = e, facing
+            d = (x - wv[e, 0]) * ox + (y - wv[e, 1]) * oy
+            if covered[e] or d < near - tie or not _supports(wv, offsets, A, v, ox, oy, slope):
+                continue
+            facing = min(ox * a1x + oy * a1y, ox * a2x + oy * a2y)
+            if facing < bf:
+                be, bf = e, facing
         if be < 0 or (best >= 0.0 and bf >= -0.05):
             continue
         f = be + 1 if be + 1 < offsets[B + 1] else offsets[B]
@@ -197,7 +243,7 @@ def _vertex_candidates(A, B, wv, offsets, lo, hi, margin, covered, out, n):
 
 
 @njit(cache=True)
-def narrow_phase(pairs, wv, offsets, lo, hi, margin, covered):
+def narrow_phase(pairs, wv, offsets, lo, hi, margin, covered, slope=SUPPORT_SLOPE):
     """(m, 4) int64 candidates [A, vertex of A, B, first vertex of B's edge]."""
     out = np.empty((8 * pairs.shape[0] + 16, 4), np.int64)
     n = 0
@@ -205,8 +251,8 @@ def narrow_phase(pairs, wv, offsets, lo, hi, margin, covered):
         for A, B in ((pairs[p, 0], pairs[p, 1]), (pairs[p, 1], pairs[p, 0])):
             full = True
             while full:
-                n, full = _vertex_candidates(A, B, wv, offsets, lo, hi, margin, covered, out,
-                                             n)
+                n, full = _vertex_candidates(A, B, wv, offsets, lo, hi, margin, covered, slope,
+                                             out, n)
                 if full:                          # grow and redo this block's vertices
                     bigger = np.empty((2 * out.shape[0], 4), np.int64)
                     bigger[:n] = out[:n]
@@ -309,7 +355,7 @@ def update_contacts(model, margin):
     keep, px, py, qx, qy = _survives_kernel(
         c.n, c.block_a, c.block_b, c.vertex_a, c.point_a, c.point_b, c.normal_b, c.edge_b, end,
         c.broken, c.material, model.table.bonded(), p.active, s.pos, s.theta, model._rot, wv,
-        margin)
+        margin, p.vertex_offsets, SUPPORT_SLOPE)
     kept = np.flatnonzero(keep)
     nb = model.n_blocks
     keys = np.minimum(c.block_a[kept], c.block_b[kept]).astype(np.int64) * nb + \
@@ -394,7 +440,8 @@ def sort_for_locality(c: Contacts) -> Contacts:
 
 @njit(cache=True)
 def _survives_kernel(nc, block_a, block_b, vertex_a, point_a, point_b, normal_b, edge_b,
-                     edge_end, broken, material, bonded, active, pos, theta, rot, wv, margin):
+                     edge_end, broken, material, bonded, active, pos, theta, rot, wv, margin,
+                     offsets, slope):
     keep = np.zeros(nc, np.bool_)
     px = np.empty(nc)
     py = np.empty(nc)
@@ -428,6 +475,10 @@ def _survives_kernel(nc, block_a, block_b, vertex_a, point_a, point_b, normal_b,
             proj = ((xa - wv[e, 0]) * ex + (ya - wv[e, 1]) * ey) / ln
             if proj < -margin or proj > ln + margin:
                 continue
+        # the vertex must still be A's deepest point towards the face (``_supports``): else
+        # the face is stale (A's edge now runs into it) and the search picks the right one
+        if vertex_a[k] >= 0 and not _supports(wv, offsets, a, vertex_a[k], -nx, -ny, slope):
+            continue
         keep[k] = True
     return keep, px, py, qx, qy
 

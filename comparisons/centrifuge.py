@@ -1,0 +1,116 @@
+"""What the centrifuge slope cases share: one g-ramp run of a scene as a sweep member, the
+rupture surface from its crack log, and the figures (cracks at failure, displacement vs g).
+
+A scene module passed here provides ``build_model(params, blocks, **options)``,
+``geometry(params)``, ``profile()``, ``face()`` and ``monitoring_points()`` (points "A" and
+"B"); see comparisons/scenes/longtan.py.
+"""
+from __future__ import annotations
+
+import time
+
+import numba
+import numpy as np
+
+from dem_core.geometry import build_block_system
+from dem_core.gravity_ramp import raise_gravity
+from dem_core.rupture import angle_to_joint_normal, depth_from_face, find_rupture
+
+
+def ramp_run(scene, params, member: dict, failure_displacement: float, creep: float,
+             rupture_materials=("flaw:",)) -> dict:
+    """Raise gravity on one scene to failure (``dem_core.gravity_ramp``, watching A and B).
+
+    ``member`` holds ``label``, ``params`` (the plain dict of ``params``), ``g_levels``,
+    ``max_steps`` and optionally ``threads``; the result is a plain dict (a sweep member's
+    output) with the histories of A and B, the cracks of the materials whose names start with
+    one of ``rupture_materials``, and ``runtime_s``. The rupture is added by ``rupture``.
+    """
+    t0 = time.perf_counter()
+    blocks = build_block_system(scene.geometry(params))
+    threads = min(member.get("threads", 1), numba.config.NUMBA_NUM_THREADS)
+    model = scene.build_model(params, blocks, mass_scaling=True, threads=threads)
+    rec = raise_gravity(model, member["g_levels"], ratio=1e-5, max_steps=member["max_steps"],
+                        failure_displacement=failure_displacement, creep=creep,
+                        watch=("A", "B"))
+    log = model.crack_log()
+    keep = np.array([m.startswith(tuple(rupture_materials)) for m in log["material"]], bool)
+    return {
+        "label": member["label"], "params": member["params"], "blocks": blocks.n_blocks,
+        "contacts": int(model.contacts.n), "g": rec.g, "verdict": rec.verdict,
+        "steps": int(np.sum(rec.steps)), "failure_g": rec.failure_g,
+        "last_stable_g": rec.last_stable_g, "ux_A": rec.point_ux.get("A", []),
+        "ux_B": rec.point_ux.get("B", []), "cracks": int(keep.sum()),
+        "crack_xy": np.column_stack([log["x"][keep], log["y"][keep]]).tolist(),
+        "crack_mode": log["mode"][keep].tolist(),
+        "crack_material": [str(m) for m in np.asarray(log["material"])[keep]],
+        "runtime_s": time.perf_counter() - t0,
+    }
+
+
+def rupture(run: dict, link_distance: float, face_part, joint_dip: float,
+            face, dip_direction: str = "left") -> dict | None:
+    """The rupture surface of a run's cracks (``dem_core.rupture``) as plain data: polyline
+    (m, from the face inwards), crack count, angle above the joint normal (deg), depth behind
+    ``face`` (m) and length (m); None when no crack group reaches ``face_part``."""
+    xy = np.asarray(run["crack_xy"], float).reshape(-1, 2)
+    found = find_rupture(xy[:, 0], xy[:, 1], link_distance=link_distance, face=face_part)
+    if found is None:
+        return None
+    return {"polyline": found.polyline.tolist(), "n_cracks": found.n_cracks,
+            "angle_above_joint_normal_deg": angle_to_joint_normal(found.direction, joint_dip,
+                                                                  dip_direction),
+            "depth_m": depth_from_face(found.polyline, face), "length_m": found.length}
+
+
+def lower_part_of_face(face, fraction: float):
+    """The lowest ``fraction`` of a face ((x_toe, y_toe), (x_crest, y_crest))."""
+    (tx, ty), (cx, cy) = face
+    return (tx, ty), (tx + fraction * (cx - tx), ty + fraction * (cy - ty))
+
+
+def displacement_figure(runs: list, continuum: dict | None = None):
+    """Horizontal displacement of point A against g for each run (and the continuum)."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for r in runs:
+        ax.plot(r["g"], 1e3 * np.asarray(r["ux_A"]), "-o", ms=3, label=f"A, {r['label']}")
+        ax.plot(r["g"], 1e3 * np.asarray(r["ux_B"]), ":s", ms=3, label=f"B, {r['label']}")
+    if continuum is not None and len(continuum.get("g", [])):
+        ax.plot(continuum["g"], 1e3 * np.asarray(continuum["ux_A"]), "k--",
+                label="A, continuum")
+    ax.set_xlabel("g-level")
+    ax.set_ylabel("horizontal displacement (mm, + out of slope)")
+    ax.legend(fontsize=7)
+    return fig
+
+
+def cracks_figure(scene, run: dict, rupture_line=None, title: str = "", reference_line=None):
+    """The section with the run's cracks (tension red, shear blue), its rupture surface and
+    points A and B; ``reference_line`` (n, 2) m is drawn dashed (e.g. a thesis's rupture)."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 5))
+    ring = scene.profile()
+    ax.fill(*np.array(ring + [ring[0]]).T, color="0.9")
+    xy = np.asarray(run["crack_xy"], float).reshape(-1, 2)
+    mode = np.asarray(run["crack_mode"])
+    for m, colour, label in ((1, "red", "tension"), (2, "blue", "shear")):
+        k = mode == m
+        if k.any():
+            ax.plot(xy[k, 0], xy[k, 1], ".", ms=3, color=colour, label=f"cracks ({label})")
+    if rupture_line is not None:
+        line = np.asarray(rupture_line)
+        ax.plot(line[:, 0], line[:, 1], "k-", lw=2, label="rupture surface")
+    if reference_line is not None:
+        line = np.asarray(reference_line)
+        ax.plot(line[:, 0], line[:, 1], "k--", lw=1.5, label="reference rupture (approx.)")
+    for name, (x, y) in scene.monitoring_points().items():
+        ax.plot(x, y, "k^")
+        ax.annotate(name, (x, y))
+    ax.set_aspect("equal")
+    ax.set_title(title, fontsize=9)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=7, loc="lower left")
+    return fig

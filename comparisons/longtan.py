@@ -1,0 +1,168 @@
+"""Case ``longtan``: the block-toppling centrifuge model of the Longtan intake slope, Zhang et
+al. (2006) (thesis 4.3, CASES.md section 3).
+
+Methods:
+
+- ``dem``: the damage model (open non-persistent cross joints, Voronoi flaws in the rock
+  bridges and the columns near the face), gravity raised step by step to failure
+  (``dem_core.gravity_ramp``, watching points A and B), at the base flaw tensile strength
+  (4.81 MPa) first and, in the full variant, lower ones; the cracks at failure and the rupture
+  surface (``dem_core.rupture``: flaw cracks linked within ``RUPTURE_LINK`` block edges or one
+  column spacing, the group reaching the lower half of the face) with its angle to the normal
+  of the continuous joints.
+- ``conventional``: the thesis's conventional UDEC: fully persistent cross joints carrying the
+  bridges' strength smeared as cohesion (0.316 / 0.474 MPa, friction 0), unbreakable flaws.
+- ``continuum``: the same section in ``continuum_ref`` (equivalent Mohr-Coulomb rock mass,
+  comparisons/longtan_continuum.py), critical g-level.
+
+Failure at a g-level: as in case ``adhikary`` (no equilibrium with A or B still moving by more
+than ``CREEP`` over the last fifth of the level, or more than ``FAILURE_DISPLACEMENT`` in one
+level); the failure g is the first failed level, resolution the variant's g step. The scene's
+dimensions are assumptions (only the width is given): see comparisons/scenes/longtan.py.
+"""
+from __future__ import annotations
+
+from comparisons import centrifuge
+from comparisons.results import CaseResult, Curve
+from comparisons.scenes import longtan as scene
+from comparisons.sweep import run_sweep
+
+DESCRIPTION = ("Centrifuge block toppling, Longtan intake slope (Zhang et al. 2006, thesis "
+               "4.3): failure g and rupture; damage model vs conventional DEM vs continuum")
+
+MPA = 1e6
+
+REFERENCE = {
+    "experiment_failure_g": 130.0,
+    "thesis_dem_failure_g": 134.0,
+    "thesis_conventional_failure_g": 146.0,
+    "experiment_rupture": "through the toe, shallower than conventional UDEC's (fig. 4.22)",
+    "source": "Alzo'ubi (2009) thesis 4.3; Zhang, Chen & Wang (2006/2007)",
+}
+
+VARIANTS = {
+    # quick: 8 mm blocks near the face (about 1.5 across the toe column's bridges, 2 across
+    # the others'), 20 g levels, the base strength only (about 1.5 minutes on 2 cores)
+    "quick": dict(edge_length=0.008, relax_iterations=10, g_levels=list(range(40, 601, 20)),
+                  max_steps=40_000, tensile=[4.81], conventional=True, continuum=True,
+                  continuum_h=0.02, workers=1, threads=1),
+    # full: 5 mm blocks (2.3 across the toe bridges), 5 g levels, three tensile strengths
+    "full": dict(edge_length=0.005, relax_iterations=50, g_levels=list(range(20, 601, 5)),
+                 max_steps=100_000, tensile=[4.81, 3.5, 2.5], conventional=True,
+                 continuum=True, continuum_h=0.008, workers=2, threads=1),
+}
+
+FAILURE_DISPLACEMENT = 0.006     # m in one level: 1.5 % of the slope height
+CREEP = 2e-4                     # m over the last fifth of a level: still moving
+RUPTURE_LINK = 3.0               # cracks closer than this many block edges are linked ...
+TOE_PART = 0.5                   # ... the rupture must reach the lower half of the face
+
+
+def run_member(member: dict) -> dict:
+    """One g-ramp of the scene (a sweep member: plain dict in, plain dict out)."""
+    params = scene.LongtanParams(**member["params"])
+    run = centrifuge.ramp_run(scene, params, member, FAILURE_DISPLACEMENT, CREEP,
+                              rupture_materials=("flaw:",))
+    link = max(RUPTURE_LINK * params.edge_length, params.column_spacing)
+    run["rupture"] = centrifuge.rupture(run, link, centrifuge.lower_part_of_face(
+        scene.face(), TOE_PART), scene.JOINT_DIP, scene.face(), "left")
+    return run
+
+
+def _members(v: dict, seed: int) -> list:
+    base = dict(edge_length=v["edge_length"], relax_iterations=v["relax_iterations"], seed=seed)
+    common = dict(g_levels=v["g_levels"], max_steps=v["max_steps"], threads=v.get("threads", 1))
+    members = []
+    if v["conventional"]:
+        members.append(dict(label="conventional", params=dict(base, conventional=True),
+                            **common))
+    members += [dict(label=f"T={t}", params=dict(base, flaw_tensile=t * MPA), **common)
+                for t in v["tensile"]]
+    return members
+
+
+def run(variant: str = "quick", seed: int = 1, progress=None) -> CaseResult:
+    if variant not in VARIANTS:
+        raise ValueError(f"variant must be one of {sorted(VARIANTS)}, got {variant!r}")
+    v = VARIANTS[variant]
+    progress = progress or (lambda message: None)
+    result = CaseResult("longtan", variant, seed, reference=dict(REFERENCE))
+    members = _members(v, seed)
+    progress(f"{len(members)} DEM runs (g-levels {v['g_levels'][0]}..{v['g_levels'][-1]})")
+    runs = run_sweep(run_member, members, workers=v["workers"], progress=progress)
+    by_label = {r["label"]: r for r in runs}
+    dem_runs = [by_label[f"T={t}"] for t in v["tensile"]]
+    base_run = dem_runs[0]
+    result.methods["dem"] = {
+        "failure_g": [[r["params"]["flaw_tensile"] / MPA, r["failure_g"]] for r in dem_runs],
+        "last_stable_g": [[r["params"]["flaw_tensile"] / MPA, r["last_stable_g"]]
+                          for r in dem_runs],
+        "rupture": base_run["rupture"], "cracks": base_run["cracks"],
+        "blocks": base_run["blocks"], "contacts": base_run["contacts"],
+        "g_step": v["g_levels"][1] - v["g_levels"][0], "g_max": v["g_levels"][-1],
+        "runtime_s": float(sum(r["runtime_s"] for r in dem_runs)),
+    }
+    result.add_error("dem failure g vs thesis UDEC-DM", base_run["failure_g"], 134.0)
+    result.add_error("dem failure g vs experiment", base_run["failure_g"], 130.0)
+    if "conventional" in by_label:
+        conv = by_label["conventional"]
+        result.methods["conventional"] = {
+            "failure_g": conv["failure_g"], "last_stable_g": conv["last_stable_g"],
+            "rupture": conv["rupture"], "blocks": conv["blocks"],
+            "runtime_s": conv["runtime_s"]}
+        result.add_error("conventional failure g vs thesis", conv["failure_g"], 146.0,
+                         "conventional")
+        result.add_error("conventional failure g vs experiment", conv["failure_g"], 130.0,
+                         "conventional")
+    if v["continuum"]:
+        from comparisons.longtan_continuum import run_continuum
+
+        progress("continuum: critical g-level")
+        result.methods["continuum"] = run_continuum(v["continuum_h"], v["g_levels"][-1],
+                                                    result)
+        result.add_error("continuum failure g vs experiment",
+                         result.methods["continuum"]["failure_g"], 130.0, "continuum")
+    _curves_and_figures(result, runs, base_run)
+    result.notes += [
+        "Only the model width (0.752 m) is given; slope height 0.40 m, face 75 degrees, base "
+        "0.10 m, column spacing 50 mm, cross-joint spacing 100 mm and the bridges at the "
+        "columns' back sides are assumptions (comparisons/scenes/longtan.py), so the failure "
+        "g-levels compare the methods with each other more than with the thesis's numbers.",
+        "Flaw cohesion 1.58 MPa derived from the conventional base cohesions 0.474 = 0.3 x "
+        "1.58 and 0.316 = 0.2 x 1.58 MPa; flaw friction 0 as the bases' (the smearing holds "
+        "only with equal friction on bridge and joint).",
+        "Conventional: the smeared base cohesion is kept after slip (plastic, as in the "
+        "Goodman-Bray analysis Zhang et al. extended); the intact rock is elastic (glued "
+        "flaws), so it cannot yield as UDEC's zones did.",
+        f"Failure test on points A and B: no equilibrium with their displacement still growing "
+        f"(> {CREEP} m over the last fifth of a level) or > {FAILURE_DISPLACEMENT} m in one "
+        f"level; g resolution {result.methods['dem']['g_step']} g. A failure g of None means "
+        f"no failure up to {v['g_levels'][-1]} g; its error is then reported as missing.",
+    ]
+    return result
+
+
+def _name(label: str) -> str:
+    return label.replace("=", "").replace(" ", "_")
+
+
+def _curves_and_figures(result, runs, base_run):
+    import numpy as np
+
+    for r in runs:
+        rows = np.column_stack([r["g"], r["ux_A"], r["ux_B"]]) if r["g"] else np.zeros((0, 3))
+        result.curves["displacement_" + _name(r["label"])] = Curve(
+            ["g_level", "ux_A_m", "ux_B_m"], rows)
+        xy = np.asarray(r["crack_xy"], float).reshape(-1, 2)
+        result.curves["cracks_" + _name(r["label"])] = Curve(
+            ["x_m", "y_m", "mode_1tension_2shear"], np.column_stack([xy, r["crack_mode"]]))
+        if r["rupture"] is not None:
+            result.curves["rupture_" + _name(r["label"])] = Curve(
+                ["x_m", "y_m"], np.asarray(r["rupture"]["polyline"]))
+    result.figures["displacement_vs_g"] = centrifuge.displacement_figure(
+        runs, result.methods.get("continuum"))
+    line = None if base_run["rupture"] is None else base_run["rupture"]["polyline"]
+    result.figures["cracks_at_failure"] = centrifuge.cracks_figure(
+        scene, base_run, line, f"damage model, {base_run['label']} MPa: flaw cracks at "
+        f"failure g = {base_run['failure_g']}")
+
