@@ -20,21 +20,19 @@ reach equilibrium and the displacement of A or B keeps growing (by more than ``C
 last fifth of the level's steps), or A or B moves more than ``FAILURE_DISPLACEMENT`` during the
 level. (Watching the slope's points, not every block: columns cut by the model's back boundary
 may lean away from it without the slope failing.) The failure g reported is
-the first failed level; the resolution is the level step of the variant.
+the first failed level; the resolution is the variant's ``refine_to`` (the bracket [last
+stable, failed] is bisected from the last stable state, ``raise_gravity``). Each level is
+solved with kinetic damping (``comparisons.centrifuge``): the slender columns settle within
+the level's steps, so "still growing" means a slope that does not find equilibrium.
 """
 from __future__ import annotations
 
-import time
-
-import numba
 import numpy as np
 
+from comparisons import centrifuge
 from comparisons.results import CaseResult, Curve
 from comparisons.scenes import adhikary as scene
 from comparisons.sweep import run_sweep
-from dem_core.geometry import build_block_system
-from dem_core.gravity_ramp import raise_gravity
-from dem_core.rupture import angle_to_joint_normal, depth_from_face, find_rupture
 
 DESCRIPTION = ("Centrifuge flexural toppling (Adhikary & Dyskin 2006, thesis 4.2): failure g "
                "against flaw tensile strength; damage model vs conventional DEM vs continuum")
@@ -52,20 +50,26 @@ REFERENCE = {
 }
 
 # workers: sweep members run side by side (processes or MPI); threads: threads per member
-# (dem_core.parallel). At ~17k contacts two processes of one thread each beat one process of
-# two threads (the per-step thread start-up is not yet paid back); the results are the same.
+# (dem_core.parallel). At these sizes two processes of one thread each beat one process of two
+# threads (the per-step thread start-up is not paid back); the results are the same.
+# refine_to: after the first failed level, bisect back to this many g (gravity_ramp).
+# Each level runs at most max_steps with kinetic damping (comparisons/centrifuge.py): a stable
+# level settles within ~20,000 steps at 8 mm, a failing one runs away.
 VARIANTS = {
-    # quick: 4 mm blocks (2.5 across a bed: 6 mm beds are far too strong in bending, see
-    # benchmarks/centrifuge_resolution.py) and 20 g levels (minutes on 2 cores)
-    "quick": dict(edge_length=0.004, relax_iterations=10, g_levels=list(range(40, 241, 20)),
-                  max_steps=40_000, tensile=[1.1, 1.4], frictions=[], bedding_cohesion=[],
-                  conventional=True, continuum=True, continuum_h=0.012, workers=2,
-                  threads=1),
-    # full: the thesis's runs, 1 g levels
-    "full": dict(edge_length=0.004, relax_iterations=50, g_levels=list(range(1, 151)),
-                 max_steps=100_000, tensile=[0.8, 0.9, 1.0, 1.1, 1.2, 1.3, 1.4],
-                 frictions=[32.0, 25.0], bedding_cohesion=[5e3], conventional=True,
-                 continuum=True, continuum_h=0.006, workers=2, threads=1),
+    # quick: 8 mm blocks (about one across a 10 mm bed: columns too strong in bending, see
+    # benchmarks/centrifuge_resolution.py), 40 g levels bisected to 10 g, every study at one
+    # value (a few minutes on 2 cores; the test suite runs it and asserts the trends)
+    "quick": dict(edge_length=0.008, relax_iterations=10, g_levels=list(range(60, 261, 40)),
+                  refine_to=10.0, max_steps=20_000, tensile=[1.1, 0.8, 1.4], frictions=[25.0],
+                  bedding_cohesion=[5e3], conventional=True, continuum=True,
+                  continuum_h=0.012, workers=2, threads=1),
+    # full: the thesis's runs at 4 mm blocks (2.5 across a bed); 5 g levels bisected to 1 g
+    # (the answer of the thesis's 1 g steps); hours on 2 cores
+    "full": dict(edge_length=0.004, relax_iterations=50, g_levels=list(range(10, 301, 5)),
+                 refine_to=1.0, max_steps=60_000,
+                 tensile=[1.1, 0.8, 0.9, 1.0, 1.2, 1.3, 1.4], frictions=[32.0, 25.0],
+                 bedding_cohesion=[5e3], conventional=True, continuum=True,
+                 continuum_h=0.006, workers=2, threads=1),
 }
 
 FAILURE_DISPLACEMENT = 0.005     # m in one level: 1.5 % of the slope height
@@ -77,37 +81,14 @@ CREEP = 2e-4                     # m over the last fifth of a level: still movin
 
 def run_member(member: dict) -> dict:
     """One DEM run of the g-ramp (a sweep member: plain dict in, plain dict out)."""
-    t0 = time.perf_counter()
     params = scene.AdhikaryParams(**member["params"])
-    blocks = build_block_system(scene.geometry(params))
-    threads = min(member.get("threads", 1), numba.config.NUMBA_NUM_THREADS)
-    model = scene.build_model(params, blocks, mass_scaling=True, threads=threads)
-    rec = raise_gravity(model, member["g_levels"], ratio=1e-5, max_steps=member["max_steps"],
-                        failure_displacement=FAILURE_DISPLACEMENT, creep=CREEP,
-                        watch=("A", "B"))
-    log = model.crack_log()
-    flaw = np.array([m.startswith("flaw:") for m in log["material"]], bool)
-    rupture = find_rupture(log["x"][flaw], log["y"][flaw],
-                           link_distance=_link_distance(params),
-                           face=_toe_part_of_face(params))
-    out = {
-        "label": member["label"], "params": member["params"], "blocks": blocks.n_blocks,
-        "contacts": int(model.contacts.n), "g": rec.g, "verdict": rec.verdict,
-        "steps": int(np.sum(rec.steps)), "failure_g": rec.failure_g,
-        "last_stable_g": rec.last_stable_g, "ux_A": rec.point_ux.get("A", []),
-        "ux_B": rec.point_ux.get("B", []), "flaw_cracks": int(flaw.sum()),
-        "crack_xy": np.column_stack([log["x"][flaw], log["y"][flaw]]).tolist(),
-        "crack_mode": log["mode"][flaw].tolist(), "rupture": None,
-        "runtime_s": time.perf_counter() - t0,
-    }
-    if rupture is not None:
-        out["rupture"] = {
-            "polyline": rupture.polyline.tolist(), "n_cracks": rupture.n_cracks,
-            "angle_above_joint_normal_deg": angle_to_joint_normal(
-                rupture.direction, params.joint_dip, "left"),
-            "depth_m": depth_from_face(rupture.polyline, scene.face(params)),
-            "length_m": rupture.length}
-    return out
+    run = centrifuge.ramp_run(scene, params, member, FAILURE_DISPLACEMENT, CREEP,
+                              rupture_materials=("flaw:",))
+    face = scene.face(params)
+    run["rupture"] = centrifuge.rupture(run, _link_distance(params),
+                                        centrifuge.lower_part_of_face(face, TOE_PART),
+                                        params.joint_dip, face, "left")
+    return run
 
 
 def _link_distance(params):
@@ -117,17 +98,10 @@ def _link_distance(params):
     return max(RUPTURE_LINK * params.edge_length, RUPTURE_LINK_BEDS * params.joint_spacing)
 
 
-def _toe_part_of_face(params):
-    """The lowest ``TOE_PART`` of the face: a toppling rupture runs through the toe (Adhikary
-    et al.: the main fracture "through the toe"), so a crack group that reaches only the crest
-    (tension cracks behind the crest) is not taken for it."""
-    (tx, ty), (cx, cy) = scene.face(params)
-    return (tx, ty), (tx + TOE_PART * (cx - tx), ty + TOE_PART * (cy - ty))
-
-
 def _members(v: dict, seed: int) -> list:
     base = dict(edge_length=v["edge_length"], relax_iterations=v["relax_iterations"], seed=seed)
-    common = dict(g_levels=v["g_levels"], max_steps=v["max_steps"], threads=v.get("threads", 1))
+    common = dict(g_levels=v["g_levels"], max_steps=v["max_steps"], threads=v.get("threads", 1),
+                  refine_to=v.get("refine_to"))
     members = []
     if v["conventional"]:              # first: the longest run (it does not fail early)
         members.append(dict(label="conventional", params=dict(base, conventional=True),
@@ -164,6 +138,7 @@ def run(variant: str = "quick", seed: int = 1, progress=None) -> CaseResult:
         "rupture": base_run["rupture"],
         "blocks": base_run["blocks"], "contacts": base_run["contacts"],
         "g_step": v["g_levels"][1] - v["g_levels"][0],
+        "g_resolution": v.get("refine_to") or v["g_levels"][1] - v["g_levels"][0],
         "runtime_s": float(sum(r["runtime_s"] for r in runs if r["label"] != "conventional")),
     }
     if "conventional" in by_label:
@@ -188,7 +163,9 @@ def run(variant: str = "quick", seed: int = 1, progress=None) -> CaseResult:
         f"Failure test on points A and B: no equilibrium with their displacement still growing "
         f"(> {CREEP} m over the last fifth of a level) or > {FAILURE_DISPLACEMENT} m in one "
         f"level; "
-        f"g resolution {result.methods['dem']['g_step']} g. A failure g of None means no "
+        f"g resolution {result.methods['dem']['g_resolution']} g (levels every "
+        f"{result.methods['dem']['g_step']} g, bisected after the first failure); kinetic "
+        f"damping. A failure g of None means no "
         f"failure up to {v['g_levels'][-1]} g; its error is then reported as missing.",
         "Bedding-plane stiffness is not given in the thesis; taken equal to the flaws'.",
     ]
@@ -220,29 +197,18 @@ def _curves_and_figures(result, runs, base_run):
     import matplotlib.pyplot as plt
 
     for r in runs:
-        name = "displacement_" + r["label"].replace("=", "").replace(" ", "_")
-        rows = np.column_stack([r["g"], r["ux_A"], r["ux_B"]]) if r["g"] else np.zeros((0, 3))
-        result.curves[name] = Curve(["g_level", "ux_A_m", "ux_B_m"], rows)
-    for r in runs:
-        name = "cracks_" + r["label"].replace("=", "").replace(" ", "_")
+        name = r["label"].replace("=", "").replace(" ", "_")
+        result.curves["displacement_" + name] = Curve(["g_level", "ux_A_m", "ux_B_m"],
+                                                      centrifuge.displacement_rows(r))
         xy = np.asarray(r["crack_xy"]).reshape(-1, 2)
-        result.curves[name] = Curve(["x_m", "y_m", "mode_1tension_2shear"],
-                                    np.column_stack([xy, r["crack_mode"]]))
+        result.curves["cracks_" + name] = Curve(["x_m", "y_m", "mode_1tension_2shear"],
+                                                np.column_stack([xy, r["crack_mode"]]))
     ft = [(t, g) for t, g in result.methods["dem"]["failure_g"]]
     result.curves["failure_g_vs_tensile"] = Curve(
         ["tensile_strength_mpa", "failure_g"],
         np.array([[t, np.nan if g is None else g] for t, g in ft]))
-
-    fig, ax = plt.subplots(figsize=(6, 4))
-    for r in runs:
-        ax.plot(r["g"], 1e3 * np.asarray(r["ux_A"]), "-o", ms=3, label=f"A, {r['label']}")
-    if "continuum" in result.methods:
-        c = result.methods["continuum"]
-        ax.plot(c["g"], 1e3 * np.asarray(c["ux_A"]), "k--", label="A, continuum")
-    ax.set_xlabel("g-level")
-    ax.set_ylabel("horizontal displacement (mm, + out of slope)")
-    ax.legend(fontsize=7)
-    result.figures["displacement_vs_g"] = fig
+    result.figures["displacement_vs_g"] = centrifuge.displacement_figure(
+        runs, result.methods.get("continuum"))
 
     fig, ax = plt.subplots(figsize=(5, 4))
     ax.plot([t for t, _ in ft], [np.nan if g is None else g for _, g in ft], "o-",
@@ -254,22 +220,7 @@ def _curves_and_figures(result, runs, base_run):
     ax.legend(fontsize=7)
     result.figures["failure_g_vs_tensile"] = fig
 
-    fig, ax = plt.subplots(figsize=(6, 6))
-    ax.fill(*np.array(scene.profile() + [scene.profile()[0]]).T, color="0.9")
-    xy = np.asarray(base_run["crack_xy"]).reshape(-1, 2)
-    mode = np.asarray(base_run["crack_mode"])
-    for m, colour, label in ((1, "red", "tension"), (2, "blue", "shear")):
-        k = mode == m
-        if k.any():
-            ax.plot(xy[k, 0], xy[k, 1], ".", ms=3, color=colour, label=f"flaw cracks ({label})")
-    if base_run["rupture"] is not None:
-        line = np.asarray(base_run["rupture"]["polyline"])
-        ax.plot(line[:, 0], line[:, 1], "k-", lw=2, label="rupture surface")
-    for name, (x, y) in scene.monitoring_points().items():
-        ax.plot(x, y, "k^")
-        ax.annotate(name, (x, y))
-    ax.set_aspect("equal")
-    ax.set_title(f"damage model, {base_run['label']}, at failure g = {base_run['failure_g']}")
-    if ax.get_legend_handles_labels()[0]:
-        ax.legend(fontsize=7, loc="lower left")
-    result.figures["cracks_at_failure"] = fig
+    line = None if base_run["rupture"] is None else base_run["rupture"]["polyline"]
+    result.figures["cracks_at_failure"] = centrifuge.cracks_figure(
+        scene, base_run, line, f"damage model, {base_run['label']} MPa: flaw cracks at "
+        f"failure g = {base_run['failure_g']}")

@@ -17,29 +17,44 @@ from dem_core.gravity_ramp import raise_gravity
 from dem_core.rupture import angle_to_joint_normal, depth_from_face, find_rupture
 
 
+# Quasi-static solver of the g-ramps: kinetic damping (dynamic relaxation, checked every 100
+# steps) and no local damping. Toppling columns are slender: local damping turns their lowest
+# bending mode (tens of thousands of steps) into a creep lasting many levels, so a level never
+# settles and "still moving" says more about the step budget than about the slope; with kinetic
+# damping a stable level settles within about 20,000 steps and a failing one runs away
+# (benchmarks/centrifuge_resolution.py, docs/comparisons.md).
+DAMPING = 0.0
+KINETIC_DAMPING = 100
+
+
 def ramp_run(scene, params, member: dict, failure_displacement: float, creep: float,
              rupture_materials=("flaw:",)) -> dict:
     """Raise gravity on one scene to failure (``dem_core.gravity_ramp``, watching A and B).
 
     ``member`` holds ``label``, ``params`` (the plain dict of ``params``), ``g_levels``,
-    ``max_steps`` and optionally ``threads``; the result is a plain dict (a sweep member's
+    ``max_steps`` and optionally ``threads``, ``damping`` and ``kinetic_damping`` (the solver,
+    default ``DAMPING`` and ``KINETIC_DAMPING``) and ``refine_to`` (g: bisect the failure bracket
+    to this width, ``raise_gravity``); the result is a plain dict (a sweep member's
     output) with the histories of A and B, the cracks of the materials whose names start with
     one of ``rupture_materials``, and ``runtime_s``. The rupture is added by ``rupture``.
     """
     t0 = time.perf_counter()
     blocks = build_block_system(scene.geometry(params))
     threads = min(member.get("threads", 1), numba.config.NUMBA_NUM_THREADS)
-    model = scene.build_model(params, blocks, mass_scaling=True, threads=threads)
+    model = scene.build_model(params, blocks, mass_scaling=True, threads=threads,
+                              damping=member.get("damping", DAMPING),
+                              kinetic_damping=member.get("kinetic_damping", KINETIC_DAMPING))
     rec = raise_gravity(model, member["g_levels"], ratio=1e-5, max_steps=member["max_steps"],
                         failure_displacement=failure_displacement, creep=creep,
-                        watch=("A", "B"))
+                        watch=("A", "B"), refine_to=member.get("refine_to"))
     log = model.crack_log()
     keep = np.array([m.startswith(tuple(rupture_materials)) for m in log["material"]], bool)
     return {
         "label": member["label"], "params": member["params"], "blocks": blocks.n_blocks,
         "contacts": int(model.contacts.n), "g": rec.g, "verdict": rec.verdict,
         "steps": int(np.sum(rec.steps)), "failure_g": rec.failure_g,
-        "last_stable_g": rec.last_stable_g, "ux_A": rec.point_ux.get("A", []),
+        "last_stable_g": rec.last_stable_g, "refined_levels": rec.refined,
+        "ux_A": rec.point_ux.get("A", []),
         "ux_B": rec.point_ux.get("B", []), "cracks": int(keep.sum()),
         "crack_xy": np.column_stack([log["x"][keep], log["y"][keep]]).tolist(),
         "crack_mode": log["mode"][keep].tolist(),
@@ -69,14 +84,24 @@ def lower_part_of_face(face, fraction: float):
     return (tx, ty), (tx + fraction * (cx - tx), ty + fraction * (cy - ty))
 
 
+def displacement_rows(run: dict) -> np.ndarray:
+    """(n, 3) rows g, ux_A (m), ux_B (m) of a run's levels, sorted by g."""
+    if not run["g"]:
+        return np.zeros((0, 3))
+    rows = np.column_stack([run["g"], run["ux_A"], run["ux_B"]])
+    return rows[np.argsort(rows[:, 0], kind="stable")]
+
+
 def displacement_figure(runs: list, continuum: dict | None = None):
-    """Horizontal displacement of point A against g for each run (and the continuum)."""
+    """Horizontal displacement of points A and B against g for each run (and the continuum);
+    levels are drawn in order of g (a bisected ramp runs them out of order)."""
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(6, 4))
     for r in runs:
-        ax.plot(r["g"], 1e3 * np.asarray(r["ux_A"]), "-o", ms=3, label=f"A, {r['label']}")
-        ax.plot(r["g"], 1e3 * np.asarray(r["ux_B"]), ":s", ms=3, label=f"B, {r['label']}")
+        g, ux_a, ux_b = displacement_rows(r).T
+        ax.plot(g, 1e3 * ux_a, "-o", ms=3, label=f"A, {r['label']}")
+        ax.plot(g, 1e3 * ux_b, ":s", ms=3, label=f"B, {r['label']}")
     if continuum is not None and len(continuum.get("g", [])):
         ax.plot(continuum["g"], 1e3 * np.asarray(continuum["ux_A"]), "k--",
                 label="A, continuum")

@@ -212,9 +212,11 @@ def run(variant: str = "quick", seed: int = 1, progress=None) -> CaseResult:
                                  rel_tol=0.02, max_runs=7, progress=say)
     c_cal = cal["cohesion"]
     best = ucs_runs[c_cal]
-    # the shear studies use the calibrated cohesion, or the thesis's if the target was out of
-    # reach (a cohesion driven to ~0 would make every bond a pure friction contact)
-    c_use = c_cal if cal["converged"] else scene.THESIS_COHESION
+    # Lajtai's specimens and the tension test use the thesis's calibrated c = 1.2 MPa, not
+    # ours: our rigid-block assembly reaches UCS = 4.1 MPa only near c = 0.05 MPa, where the
+    # assembly's tensile strength collapses (bonds inclined to the pull fail in shear), so our
+    # c would miss the other target of the calibration, T; the report gives both (notes).
+    c_use = scene.THESIS_COHESION
     at_thesis_c = ucs_runs[scene.THESIS_COHESION]
     sweep_c = [c for c in cfg["cohesion_sweep"] if all(abs(c * MPA - k) > 1 for k in ucs_runs)]
     for c, r in zip(sweep_c, run_sweep(ucs_member, [ucs_q(c * MPA) for c in sweep_c],
@@ -444,9 +446,12 @@ def _notes(cfg):
         "length.",
         f"Lajtai's specimens taken with k = {scene.LAJTAI_PERSISTENCE} (joints from both ends); "
         f"open joints are {scene.SLOT_HEIGHT * 1e3:g} mm slots.",
-        "Flaw cohesion of Lajtai's specimens and the tension test = the calibrated cohesion if "
-        "the calibration converged, else the thesis's 1.2 MPa ('cohesion_used_mpa'); the "
-        "persistence, tensile-strength and scale studies use Table 3.1's 1.2 MPa (thesis 3.6).",
+        "Flaw cohesion of every shear study and of the tension test = Table 3.1's 1.2 MPa "
+        "('cohesion_used_mpa'), as in the thesis. Our calibration to UCS = 4.1 MPa converges "
+        "near c = 0.05 MPa only ('calibrated_cohesion_mpa'): at c = 1.2 MPa our rigid Voronoi "
+        "specimen gives ~6.2 MPa ('ucs_at_thesis_cohesion_mpa'), and at c ~ 0.05 MPa its direct "
+        "tension strength falls to ~0.04 MPa, so UCS and tensile targets cannot both be met "
+        "with rigid blocks at this size (UDEC's blocks were deformable).",
         "Direct-shear stress is read on the stationary upper box (the moving box also carries "
         "the start-up inertia of the lower half).",
         "Loading rates are platen / box displacements per time step (mass scaling sets the "

@@ -150,9 +150,8 @@ def _curves_and_figures(result, runs, base_run):
     import numpy as np
 
     for r in runs:
-        rows = np.column_stack([r["g"], r["ux_A"], r["ux_B"]]) if r["g"] else np.zeros((0, 3))
         result.curves["displacement_" + _name(r["label"])] = Curve(
-            ["g_level", "ux_A_m", "ux_B_m"], rows)
+            ["g_level", "ux_A_m", "ux_B_m"], centrifuge.displacement_rows(r))
         xy = np.asarray(r["crack_xy"], float).reshape(-1, 2)
         result.curves["cracks_" + _name(r["label"])] = Curve(
             ["x_m", "y_m", "mode_1tension_2shear"], np.column_stack([xy, r["crack_mode"]]))

@@ -11,6 +11,15 @@ One step (``run_steps`` loops this n times inside numba, no Python in between)::
 Velocities live at half steps (t - dt/2, t + dt/2), positions at whole steps. With alpha = 0 the
 scheme is symplectic: energy oscillates by O((omega dt)^2) and does not drift.
 
+Kinetic damping (``flags[4]`` = the check interval in steps, 0 = off; dynamic relaxation):
+every that many steps the kinetic energy of the free velocity components (inertial masses) is
+compared with the previous check; when it has fallen, the model has just passed a kinetic-energy
+peak, i.e. its lowest active mode is near its static position, and every free velocity is set
+to zero. (Checking every step would react to the step-to-step flicker of the many fast modes
+and freeze the model; the interval must stay well below a quarter of the slowest period.) Local damping converges a slender model's
+lowest bending mode only over many of its periods (it becomes a slow creep); kinetic damping
+stops it near the static state within a few quarter periods. Prescribed velocities are kept.
+
 Run status codes: 0 done, 1 a block moved more than half the search margin since the last
 contact search (the driver searches and continues), 2 unstable (NaN, or a block moving more than
 a tenth of its radius, or turning 0.1 rad, in one step; ``bad`` names the block).
@@ -25,7 +34,8 @@ from numba import njit
 from .forces import add_contact_forces, add_gravity, add_loads, servo_velocities
 from .parallel import add_contact_forces_parallel
 
-__all__ = ["run_steps", "update_rotation", "frequency_bound", "DONE", "NEED_SEARCH", "UNSTABLE"]
+__all__ = ["run_steps", "update_rotation", "frequency_bound", "free_kinetic_energy",
+           "stop_free_motion", "DONE", "NEED_SEARCH", "UNSTABLE"]
 
 DONE, NEED_SEARCH, UNSTABLE = 0, 1, 2
 
@@ -80,16 +90,51 @@ def advance(f, pos, theta, vel, omega, inv_mass, inv_inertia, fixity, velocity_b
 
 
 @njit(cache=True)
+def free_kinetic_energy(vel, omega, inv_mass, inv_inertia, fixity, active):
+    """1/2 sum m v^2 + I w^2 over free velocity components, inertial (scaled) masses, J/m."""
+    ke = 0.0
+    for i in range(vel.shape[0]):
+        if not active[i]:
+            continue
+        fx = fixity[i]
+        if inv_mass[i] > 0.0:
+            if not fx & 1:
+                ke += vel[i, 0] * vel[i, 0] / inv_mass[i]
+            if not fx & 2:
+                ke += vel[i, 1] * vel[i, 1] / inv_mass[i]
+        if inv_inertia[i] > 0.0 and not fx & 4:
+            ke += omega[i] * omega[i] / inv_inertia[i]
+    return 0.5 * ke
+
+
+@njit(cache=True)
+def stop_free_motion(vel, omega, fixity, active):
+    """Zero every free velocity component (prescribed ones keep their value)."""
+    for i in range(vel.shape[0]):
+        if not active[i]:
+            continue
+        fx = fixity[i]
+        if not fx & 1:
+            vel[i, 0] = 0.0
+        if not fx & 2:
+            vel[i, 1] = 0.0
+        if not fx & 4:
+            omega[i] = 0.0
+
+
+@njit(cache=True)
 def run_steps(nsteps, time, dt, alpha, half_margin, gravity, flags,
               pos, theta, vel, omega, force, rot, pos_search, theta_search,
               mass, inv_mass, inv_inertia, radius, fixity, velocity_bc, load, active,
               nc, block_a, block_b, point_a, point_b, normal_b, length, kn, ks, material,
               sn, ts, un, us, up, broken, slipping, strength, cracks, crack_count,
-              servo_offsets, servo_blocks, servo_params, work=None, events=None,
+              servo_offsets, servo_blocks, servo_params, ke_last, work=None, events=None,
               table_offsets=None, table_entries=None):
     """Advance up to ``nsteps`` steps; returns (steps done, time, status, block).
 
-    ``flags`` = [has_gravity, has_loads, has_servo, check_search] (int64 array). Stops early
+    ``flags`` = [has_gravity, has_loads, has_servo, check_search, kinetic_interval] (int64
+    array); ``ke_last`` (2,) holds, for kinetic damping, the kinetic energy at the previous
+    check (J/m, inertial masses) and the steps since it; updated in place. Stops early
     with status 1 (search needed, after completing the step) or 2 (unstable, before moving).
     With the scratch ``work``/``events`` and the block -> contact table given, the contact
     forces run on several threads (``parallel.add_contact_forces_parallel``, same results).
@@ -120,6 +165,15 @@ def run_steps(nsteps, time, dt, alpha, half_margin, gravity, flags,
             return step, time, 2, bad
         update_rotation(theta, rot)
         time += dt
+        if flags[4] > 0:
+            ke_last[1] += 1.0
+            if ke_last[1] >= flags[4]:
+                ke_last[1] = 0.0
+                ke = free_kinetic_energy(vel, omega, inv_mass, inv_inertia, fixity, active)
+                if ke < ke_last[0]:
+                    stop_free_motion(vel, omega, fixity, active)
+                    ke = 0.0
+                ke_last[0] = ke
         if status == 1:
             return step + 1, time, 1, bad
     return nsteps, time, 0, -1

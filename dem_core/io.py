@@ -25,7 +25,7 @@ _BS_ARRAYS = ("vertices", "vertex_offsets", "centroid", "area", "region_id", "ed
               "edge_material")
 _SETTINGS = ("unbreakable", "damping", "safety", "mass_scaling", "fixed_dt", "search_margin",
              "search_enabled", "new_contact_material", "time", "step", "dt", "critical_dt",
-             "threads")
+             "threads", "kinetic_damping")
 
 
 def save_model(model, path) -> None:
@@ -39,6 +39,7 @@ def save_model(model, path) -> None:
     arrays["block_E"], arrays["block_nu"] = model.block_E, model.block_nu
     arrays["cracks"], arrays["crack_count"] = model.cracks, model.crack_count
     arrays["gravity"] = model.gravity
+    arrays["ke_last"] = model.ke_last
     for i, (g, prm) in enumerate(model.servo_groups):
         arrays[f"servo.{i}.blocks"], arrays[f"servo.{i}.params"] = g, prm
     for name, (b, local, x0) in model.points.items():
@@ -72,6 +73,7 @@ def load_model(path):
     m = Model.__new__(Model)
     m.blocks = bs
     m.materials = {k: Material(**v) for k, v in meta["materials"].items()}
+    m.kinetic_damping = 0                    # files written before the option existed
     for k, v in meta["settings"].items():
         setattr(m, k, v)
     m.table = material_table(meta["table_names"], m.materials, m.unbreakable)
@@ -81,6 +83,7 @@ def load_model(path):
     m.block_E, m.block_nu = d["block_E"], d["block_nu"]
     m.cracks, m.crack_count = d["cracks"], d["crack_count"]
     m.gravity = d["gravity"]
+    m.ke_last = d.get("ke_last", np.zeros(2))
     m.servo_groups = [(d[f"servo.{i}.blocks"], d[f"servo.{i}.params"])
                       for i in range(meta["n_servo"])]
     m.points = {}

@@ -66,12 +66,18 @@ class Model:
     threads : int
         Threads for the contact forces (1: the serial kernel; more: ``dem_core.parallel``,
         bit-for-bit the same results). At most numba's thread count (the cores).
+    kinetic_damping : int
+        Dynamic relaxation: every ``kinetic_damping`` steps (0: off) compare the kinetic energy
+        with the last check and zero all free velocities when it has fallen (a kinetic-energy
+        peak, ``integrate``). For quasi-static runs of slender structures (toppling columns),
+        whose lowest mode local damping turns into a creep lasting many of its periods; 100
+        steps suits models whose slowest period is thousands of steps.
     """
 
     def __init__(self, blocks: BlockSystem, materials: dict, density, block_E=None,
                  block_nu=0.25, unbreakable=None, damping=0.8, safety=0.5, mass_scaling=False,
                  dt=None, search_margin=None, new_contact_material=None, history_every=100,
-                 threads=1):
+                 threads=1, kinetic_damping=0):
         if not isinstance(blocks, BlockSystem):
             raise ValueError(f"blocks must be a BlockSystem, got {type(blocks).__name__}")
         if not (0.0 <= damping < 1.0):
@@ -97,6 +103,11 @@ class Model:
         self.block_E = self._per_block(block_E, np.inf, "block_E", lower=0.0)
         self.block_nu = self._per_block(block_nu, 0.25, "block_nu", lower=-1.0, upper=0.5)
         self.damping = float(damping)
+        if not (isinstance(kinetic_damping, (int, np.integer)) and kinetic_damping >= 0):
+            raise ValueError(f"kinetic_damping must be a step interval >= 0 (0: off), got "
+                             f"{kinetic_damping!r}")
+        self.kinetic_damping = int(kinetic_damping)
+        self.ke_last = np.zeros(2)
         self.safety = float(safety)
         self.mass_scaling = bool(mass_scaling)
         self.fixed_dt = dt
@@ -406,7 +417,7 @@ class Model:
         p, s, c = self.props, self.state, self.contacts
         so, sb, sp = self._servo_arrays()
         flags = np.array([np.any(self.gravity != 0), np.any(p.load != 0), len(sp) > 0,
-                          self.search_enabled], dtype=np.int64)
+                          self.search_enabled, self.kinetic_damping], dtype=np.int64)
         steps, self.time, status, bad = integrate.run_steps(
             n, self.time, self.dt, self.damping, 0.5 * self.search_margin, self.gravity, flags,
             s.pos, s.theta, s.vel, s.omega, s.force, self._rot, s.pos_search, s.theta_search,
@@ -414,7 +425,7 @@ class Model:
             p.active, c.n, c.block_a, c.block_b, c.point_a, c.point_b, c.normal_b, c.length,
             c.kn, c.ks, c.material, c.sn, c.ts, c.un, c.us, c.up, c.broken, c.slipping,
             self.table.strength_array(), self.cracks, self.crack_count, so, sb, sp,
-            *self._parallel_arrays())
+            self.ke_last, *self._parallel_arrays())
         self.step += steps
         if status == integrate.UNSTABLE:
             raise ModelUnstable(self._diagnose(bad))

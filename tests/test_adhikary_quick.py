@@ -1,0 +1,83 @@
+"""The quick ``adhikary`` variant end to end, asserting the physics the thesis found (4.2):
+
+- failure g rises with the flaw tensile strength T (0.8 < 1.1 <= 1.4 MPa, thesis 70 -> 82 g
+  from 1.1 to 1.4);
+- the flaw friction (25 instead of 37 degrees) changes the failure g by less than the T range
+  does ("little effect");
+- a lower bedding cohesion (5 instead of 15 kPa) fails earlier (thesis about 50 vs 70 g);
+- the conventional mode (unbreakable flaws) fails later than the damage model (thesis 115 g);
+- the damage model's rupture runs from the toe into the slope;
+
+and that its failure g-levels are the stored regression numbers (tests/case_reference.json).
+Quick = 8 mm blocks, 40 g levels bisected to 10 g, one process per run (two side by side).
+"""
+import json
+from pathlib import Path
+
+import pytest
+
+from comparisons import adhikary
+
+REFERENCE = json.loads((Path(__file__).parent / "case_reference.json").read_text())
+
+
+@pytest.fixture(scope="module")
+def quick():
+    return adhikary.run("quick", seed=1)
+
+
+def _failure_g(result, tensile):
+    return dict((t, g) for t, g in result.methods["dem"]["failure_g"])[tensile]
+
+
+def test_base_run_first_and_every_run_fails_in_range(quick):
+    pairs = quick.methods["dem"]["failure_g"]
+    assert pairs[0][0] == 1.1                        # the scene's base properties first
+    assert all(g is not None and 60 < g <= 300 for _, g in pairs)
+    assert quick.methods["dem"]["g_resolution"] == 10.0
+
+
+def test_failure_g_rises_with_tensile_strength(quick):
+    g08, g11, g14 = (_failure_g(quick, t) for t in (0.8, 1.1, 1.4))
+    assert g08 < g14
+    assert g08 <= g11 <= g14
+
+
+def test_flaw_friction_matters_less_than_tensile_strength(quick):
+    (friction, g_friction), = quick.methods["dem"]["friction_study"]
+    assert friction == 25.0
+    t_range = _failure_g(quick, 1.4) - _failure_g(quick, 0.8)
+    assert abs(g_friction - _failure_g(quick, 1.1)) < t_range
+
+
+def test_lower_bedding_cohesion_fails_earlier(quick):
+    (cohesion_kpa, g_low), = quick.methods["dem"]["bedding_cohesion_study"]
+    assert cohesion_kpa == 5.0
+    assert g_low < _failure_g(quick, 1.1)
+
+
+def test_conventional_mode_fails_later_than_the_damage_model(quick):
+    conventional = quick.methods["conventional"]["failure_g"]
+    assert conventional is None or conventional > _failure_g(quick, 1.1)
+
+
+def test_rupture_runs_from_the_toe_into_the_slope(quick):
+    rupture = quick.methods["dem"]["rupture"]
+    assert rupture is not None and rupture["depth_m"] > 0.01
+    assert 0.0 < rupture["angle_above_joint_normal_deg"] < 60.0
+    assert quick.methods["dem"]["runtime_s"] > 0 and quick.methods["continuum"]["runtime_s"] > 0
+
+
+def test_failure_g_matches_the_regression_reference(quick):
+    ref = REFERENCE["adhikary_quick"]
+    tol = ref["abs_tolerance_g"]
+    measured = {f"T={t}": g for t, g in quick.methods["dem"]["failure_g"]}
+    measured["flaw friction 25"] = quick.methods["dem"]["friction_study"][0][1]
+    measured["bedding c 5 kPa"] = quick.methods["dem"]["bedding_cohesion_study"][0][1]
+    measured["conventional"] = quick.methods["conventional"]["failure_g"]
+    assert set(measured) == set(ref["failure_g"])
+    for label, g in ref["failure_g"].items():
+        if g is None:
+            assert measured[label] is None, label
+        else:
+            assert measured[label] == pytest.approx(g, abs=tol), label

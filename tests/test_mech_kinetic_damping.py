@@ -1,0 +1,85 @@
+"""Kinetic damping (dynamic relaxation, ``Model(kinetic_damping=n)``) against closed forms.
+
+- A block hanging on one bonded edge settles by m g / (kn L) (rigid blocks): kinetic damping
+  must reach that static answer, not a damped approximation of it.
+- The slender Voronoi cantilever of tests/test_mech_specimens.py: kinetic damping must give the
+  same static tip deflection as local damping solved to equilibrium, in fewer steps (local
+  damping turns a slender structure's lowest mode into a slow creep: the reason the option
+  exists, docs/mechanics.md).
+"""
+import numpy as np
+import pytest
+
+from dem_core.materials import Material
+from dem_core.model import Model
+from dem_core.simple_blocks import brick_grid
+
+from test_mech_specimens import materials, voronoi_bar
+
+
+def test_hanging_block_settles_to_the_static_spring_extension():
+    kn, h, w, rho, g_level = 1e10, 0.1, 0.1, 2500.0, 10.0
+    bs = brick_grid(1, 2, w, h)
+    m = Model(bs, {"flaw:*": Material(kn=kn, ks=kn, breakable=False)}, density=rho,
+              damping=0.0, kinetic_damping=5)
+    m.fix("top")
+    m.add_history_point("tip", (0.05, 0.0))
+    m.set_gravity(g_level)
+    m.cycle(2000)
+    static = rho * w * h * 9.81 * g_level / (kn * w)
+    assert -m.point_motion("tip")[1] == pytest.approx(static, rel=1e-3)
+    assert abs(m.point_motion("tip")[3]) * m.dt < 1e-4 * static    # at rest
+
+
+def _tip_history(model, chunk, n_chunks):
+    out = []
+    for _ in range(n_chunks):
+        model.cycle(chunk)
+        out.append(-model.point_motion("tip")[1])
+    return np.array(out)
+
+
+def _steps_to_settle(history, chunk, final, rel=0.01):
+    """Steps after which the history stays within ``rel`` of ``final``."""
+    off = np.abs(history / final - 1) > rel
+    return chunk * (int(np.flatnonzero(off)[-1]) + 2 if off.any() else 1)
+
+
+def _cantilever(**options):
+    length, height = 0.3, 0.03
+    m = Model(voronoi_bar(length, height, edge=0.005, seed=3), materials(1.0), density=2500.0,
+              **options)
+    m.remove("right")
+    m.fix("left")
+    m.set_gravity(1.0)
+    m.add_history_point("tip", (length, 0.5 * height))
+    return m
+
+
+def test_kinetic_damping_finds_the_cantilever_static_deflection_sooner():
+    local = _cantilever(damping=0.8)
+    result = local.solve(ratio=1e-5, max_steps=80_000)
+    assert result.verdict == "equilibrium"
+    static = -local.point_motion("tip")[1]
+    chunk = 500
+    kinetic = _tip_history(_cantilever(damping=0.0, kinetic_damping=20), chunk, 40)
+    assert kinetic[-1] == pytest.approx(static, rel=0.01)
+    damped = _tip_history(_cantilever(damping=0.8), chunk, 40)
+    assert _steps_to_settle(kinetic, chunk, static) < _steps_to_settle(damped, chunk, static)
+
+
+def test_kinetic_damping_survives_save_and_load(tmp_path):
+    m = _cantilever(damping=0.0, kinetic_damping=20)
+    m.cycle(300)
+    m.save(tmp_path / "m.npz")
+    again = Model.load(tmp_path / "m.npz")
+    assert again.kinetic_damping == 20
+    m.cycle(300)
+    again.cycle(300)
+    assert np.array_equal(m.state.pos, again.state.pos)
+
+
+@pytest.mark.parametrize("bad", [-1, 2.5, "yes"])
+def test_bad_kinetic_damping_is_refused(bad):
+    with pytest.raises(ValueError, match="kinetic_damping"):
+        _cantilever(kinetic_damping=bad)
