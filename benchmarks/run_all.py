@@ -9,11 +9,15 @@ so a crash in one does not stop the rest:
 - error_vs_time.py   error against run time of the closed-form checks (docs/verification.md)
 - stability_map.py   DEM time-step margin map, continuum Newton map (docs/verification.md)
 - leave_out.py       cost of unused parts, flaws only where needed (docs/performance.md)
-- performance.py     throughput, scaling, step profile, machine limit, continuum s/iteration
+- performance.py     throughput (1 and 2 threads), scaling, step profile, machine limit,
+                     continuum s/iteration
+- lab_resolution.py  error against run time of the lab case (UCS, shear peak: block size,
+                     time-step safety)
+- centrifuge_resolution.py  Adhikary failure g against block size and run time (quick: 8 and
+                     6 mm; full: 8, 6, 4 mm)
 - regression_numbers.py   prints the regression-guard numbers (does not rewrite the reference)
 - full only: continuum_scaling.py (slope and footing refinement), throughput.py --scaling,
-  column_bending.py (flexural strength of a Voronoi column against beam theory by block size),
-  centrifuge_resolution.py (Adhikary failure g against block size and run time)
+  column_bending.py (flexural strength of a Voronoi column against beam theory by block size)
 """
 from __future__ import annotations
 
@@ -35,11 +39,12 @@ def main():
     a = ap.parse_args()
     mode = "--full" if a.full else "--quick"
     jobs = [["error_vs_time.py", mode], ["stability_map.py", mode], ["leave_out.py", mode],
-            ["performance.py", mode], ["regression_numbers.py"]]
+            ["performance.py", mode], ["lab_resolution.py", mode],
+            ["centrifuge_resolution.py", "--edges", "0.008", "0.006"]
+            + (["0.004"] if a.full else []), ["regression_numbers.py"]]
     if a.full:
         jobs += [["continuum_scaling.py"], ["throughput.py", "--scaling"],
-                 ["column_bending.py", "--edges", "0.006", "0.004", "0.003"],
-                 ["centrifuge_resolution.py", "--edges", "0.006", "0.004"]]
+                 ["column_bending.py", "--edges", "0.006", "0.004", "0.003"]]
     summary = []
     for job in jobs:
         t0 = time.perf_counter()

