@@ -22,12 +22,13 @@ ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "tests" / "case_reference.json"
 
 WHY = (
-    "The quick runs are deterministic on one machine (fixed seeds, serial kernels), but a "
-    "damage model is chaotic near failure: a different CPU, compiler or numba version changes "
-    "round-off, hence the order of bond failures. The tolerances are the smallest change such "
-    "a run can show without a physics change: one bisection step of the g-ramp (10 g) for a "
-    "failure g, 5 % for a peak stress (the spread over seeds of the quick lajtai specimens is "
-    "larger, about 10 %). A failure g of null means no failure up to the last level.")
+    "The quick runs are deterministic on one machine (fixed seeds, serial kernels), but a damag"
+    "e model is chaotic near failure: a different CPU (fused multiply-add), compiler or numba v"
+    "ersion changes round-off, hence the order of bond failures. The tolerances allow that and "
+    "still catch a physics change: two bisection steps of the g-ramp (20 g) for a failure g (th"
+    "e T study spans 60 g), 10 % for a peak stress (the spread over seeds of the quick lajtai s"
+    "pecimens; the k = 1 corner lock fixed this session moved its points by 32-67 %). A failure"
+    " g of null means no failure up to the last level.")
 
 
 def adhikary_numbers(summary: dict) -> dict:
@@ -36,7 +37,7 @@ def adhikary_numbers(summary: dict) -> dict:
     failure.update({f"flaw friction {f:g}": g for f, g in dem["friction_study"]})
     failure.update({f"bedding c {c:g} kPa": g for c, g in dem["bedding_cohesion_study"]})
     failure["conventional"] = summary["methods"]["conventional"]["failure_g"]
-    return {"failure_g": failure, "abs_tolerance_g": 10.0}
+    return {"failure_g": failure, "abs_tolerance_g": 20.0}
 
 
 def lajtai_numbers(summary: dict) -> dict:
@@ -45,7 +46,7 @@ def lajtai_numbers(summary: dict) -> dict:
     points = {f"{study} sn {sn:g}": tau for study in ("persistence_k0", "persistence_k1")
               for sn, tau in env[study]}
     points["ucs_at_thesis_cohesion"] = dem["ucs_at_thesis_cohesion_mpa"]
-    return {"mpa": points, "rel_tolerance": 0.05}
+    return {"mpa": points, "rel_tolerance": 0.10}
 
 
 def main(argv=None):

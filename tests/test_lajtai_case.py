@@ -10,7 +10,7 @@ support rule). The calibration reaches 4.1 MPa only near c = 0: the UCS of our V
 specimen at the thesis's c = 1.2 MPa is about 6.2 MPa (docs/comparisons.md, "## lajtai").
 
 Regression guard: the k = 0 and k = 1 envelope points and the UCS at c = 1.2 MPa must stay the
-numbers stored in tests/case_reference.json (benchmarks/case_reference.py) within 5 %.
+numbers stored in tests/case_reference.json (benchmarks/case_reference.py) within 10 %.
 """
 import json
 import math
