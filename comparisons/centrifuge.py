@@ -139,3 +139,42 @@ def cracks_figure(scene, run: dict, rupture_line=None, title: str = "", referenc
     if ax.get_legend_handles_labels()[0]:
         ax.legend(fontsize=7, loc="lower left")
     return fig
+
+
+def continuum_critical_g(mesh, material, density: float, width: float, g_max: float, result,
+                         runaway: float, label: str) -> dict:
+    """The continuum column of a centrifuge case: the slope ``mesh`` (continuum_ref, with
+    history points "A" and "B") of ``material`` on a fixed base with rollers at x = 0 and
+    x = ``width`` (m), gravity raised with step cutting until Newton fails or a node moves more
+    than ``runaway`` m (``continuum_ref.ssr.critical_g``). Adds the yield-indicator figure to
+    ``result`` and returns failure g, last stable g, ux of A and B against g (m), Newton
+    iterations, cells, ``label`` (the material in words) and runtime_s (s, without the
+    caller's meshing)."""
+    import matplotlib.pyplot as plt
+
+    from continuum_ref.model import ContinuumModel
+    from continuum_ref.plot import plot_yield
+    from continuum_ref.ssr import critical_g
+
+    t0 = time.perf_counter()
+    model = ContinuumModel(mesh, material, density)
+    tol = 1e-9
+    model.fix(lambda x: x[1] < tol)
+    model.fix(lambda x: (x[0] < tol) | (x[0] > width - tol), components=(0,))
+    model.solve_gravity(1.0)
+    limit = critical_g(model, g_max=float(g_max), first_step=max(1.0, g_max / 10.0),
+                       tol=1.0, runaway=runaway)
+    hist = {name: np.array([(t, ux) for kind, t, ux, _ in model.history[name]
+                            if kind == "g"]) for name in ("A", "B")}
+    fig, ax = plt.subplots(figsize=(6, 5))
+    plot_yield(model, ax=ax)
+    ax.set_title(f"continuum yield indicator at {limit.value:.0f} g")
+    result.figures["continuum_yield"] = fig
+    g = hist["A"][:, 0] if len(hist["A"]) else np.zeros(0)
+    return {
+        "failure_g": limit.first_failed, "last_stable_g": limit.value,
+        "g": g.tolist(), "ux_A": hist["A"][:, 1].tolist() if len(g) else [],
+        "ux_B": hist["B"][:, 1].tolist() if len(g) else [],
+        "newton_iterations": limit.newton_iterations, "cells": int(len(model.triangles()[1])),
+        "material": label, "runtime_s": time.perf_counter() - t0,
+    }

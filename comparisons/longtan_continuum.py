@@ -16,6 +16,7 @@ import time
 
 import numpy as np
 
+from comparisons.centrifuge import continuum_critical_g
 from comparisons.scenes import longtan as scene
 from dem_core.geometry import GeometrySpec
 
@@ -33,13 +34,8 @@ def equivalent_rock_mass(p: scene.LongtanParams) -> dict:
 
 def run_continuum(h: float, g_max: float, result) -> dict:
     """Critical g, displacement at A and B against g, and a yield-indicator figure."""
-    import matplotlib.pyplot as plt
-
     from continuum_ref.materials import MohrCoulomb
     from continuum_ref.mesh import mesh_from_geometry
-    from continuum_ref.model import ContinuumModel
-    from continuum_ref.plot import plot_yield
-    from continuum_ref.ssr import critical_g
 
     t0 = time.perf_counter()
     p = scene.LongtanParams()
@@ -47,27 +43,10 @@ def run_continuum(h: float, g_max: float, result) -> dict:
     section = GeometrySpec([scene.slope_region()])         # one region: no joints
     mesh = mesh_from_geometry(section, h, points=scene.monitoring_points())
     material = MohrCoulomb(E=p.block_E, nu=p.block_nu, dilation=0.0, **mass)
-    model = ContinuumModel(mesh, material, scene.DENSITY)
-    tol = 1e-9
-    model.fix(lambda x: x[1] < tol)
-    model.fix(lambda x: (x[0] < tol) | (x[0] > scene.WIDTH - tol), components=(0,))
-    model.solve_gravity(1.0)
-    limit = critical_g(model, g_max=float(g_max), first_step=max(1.0, g_max / 10.0),
-                       tol=1.0, runaway=RUNAWAY)
-    hist = {name: np.array([(t, ux) for label, t, ux, _ in model.history[name]
-                            if label == "g"]) for name in ("A", "B")}
-    fig, ax = plt.subplots(figsize=(6, 5))
-    plot_yield(model, ax=ax)
-    ax.set_title(f"continuum yield indicator at {limit.value:.0f} g")
-    result.figures["continuum_yield"] = fig
-    g = hist["A"][:, 0] if len(hist["A"]) else np.zeros(0)
-    return {
-        "failure_g": limit.first_failed, "last_stable_g": limit.value,
-        "g": g.tolist(), "ux_A": hist["A"][:, 1].tolist() if len(g) else [],
-        "ux_B": hist["B"][:, 1].tolist() if len(g) else [],
-        "newton_iterations": limit.newton_iterations, "cells": int(len(model.triangles()[1])),
-        "material": (f"Mohr-Coulomb c {mass['cohesion'] / 1e6:.3f} MPa, friction "
-                     f"{mass['friction']:.1f}, T {mass['tensile_strength'] / 1e6:.2f} MPa, "
-                     "dilation 0 (bridges smeared, k = 0.7; no joints)"),
-        "runtime_s": time.perf_counter() - t0,
-    }
+    out = continuum_critical_g(
+        mesh, material, scene.DENSITY, scene.WIDTH, g_max, result, RUNAWAY,
+        f"Mohr-Coulomb c {mass['cohesion'] / 1e6:.3f} MPa, friction {mass['friction']:.1f}, "
+        f"T {mass['tensile_strength'] / 1e6:.2f} MPa, dilation 0 (bridges smeared, k = 0.7; "
+        f"no joints)")
+    out["runtime_s"] = time.perf_counter() - t0
+    return out
