@@ -99,20 +99,9 @@ def _link_distance(params):
 
 
 def _members(v: dict, seed: int) -> list:
-    base = dict(edge_length=v["edge_length"], relax_iterations=v["relax_iterations"], seed=seed)
-    common = dict(g_levels=v["g_levels"], max_steps=v["max_steps"], threads=v.get("threads", 1),
-                  refine_to=v.get("refine_to"))
-    members = []
-    if v["conventional"]:              # first: the longest run (it does not fail early)
-        members.append(dict(label="conventional", params=dict(base, conventional=True),
-                            **common))
-    members += [dict(label=f"T={t}", params=dict(base, flaw_tensile=t * MPA), **common)
-                for t in v["tensile"]]
-    members += [dict(label=f"flaw friction {f:g}", params=dict(base, flaw_friction=f), **common)
-                for f in v["frictions"]]
-    members += [dict(label=f"bedding c {c / 1e3:g} kPa", params=dict(base, bedding_cohesion=c),
-                     **common) for c in v["bedding_cohesion"]]
-    return members
+    return centrifuge.ramp_members(
+        v, seed, **{"flaw friction {:g}": ("flaw_friction", v["frictions"]),
+                    "bedding c {:g} kPa": ("bedding_cohesion", v["bedding_cohesion"], 1e3)})
 
 
 def run(variant: str = "quick", seed: int = 1, progress=None) -> CaseResult:

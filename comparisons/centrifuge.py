@@ -27,6 +27,29 @@ DAMPING = 0.0
 KINETIC_DAMPING = 100
 
 
+def ramp_members(v: dict, seed: int, **studies) -> list:
+    """The sweep members of a centrifuge case's variant ``v`` (VARIANTS entry): the
+    conventional run first if ``v["conventional"]`` (the longest: it does not fail early), then
+    one run per flaw tensile strength in ``v["tensile"]`` (MPa), then one per value of each
+    ``studies`` entry: label format -> (parameter name, values in the parameter's units, and
+    optionally a divisor for the label), e.g. ``{"flaw friction {:g}": ("flaw_friction",
+    [25.0])}`` or ``{"bedding c {:g} kPa": ("bedding_cohesion", [5e3], 1e3)}``."""
+    base = dict(edge_length=v["edge_length"], relax_iterations=v["relax_iterations"], seed=seed)
+    common = dict(g_levels=v["g_levels"], max_steps=v["max_steps"], threads=v.get("threads", 1),
+                  refine_to=v.get("refine_to"))
+    members = []
+    if v["conventional"]:
+        members.append(dict(label="conventional", params=dict(base, conventional=True),
+                            **common))
+    members += [dict(label=f"T={t}", params=dict(base, flaw_tensile=t * 1e6), **common)
+                for t in v["tensile"]]
+    for label, (name, values, *divisor) in studies.items():
+        scale = divisor[0] if divisor else 1.0
+        members += [dict(label=label.format(x / scale), params=dict(base, **{name: x}),
+                         **common) for x in values]
+    return members
+
+
 def ramp_run(scene, params, member: dict, failure_displacement: float, creep: float,
              rupture_materials=("flaw:",)) -> dict:
     """Raise gravity on one scene to failure (``dem_core.gravity_ramp``, watching A and B).

@@ -70,26 +70,13 @@ def run_member(member: dict) -> dict:
     return run
 
 
-def _members(v: dict, seed: int) -> list:
-    base = dict(edge_length=v["edge_length"], relax_iterations=v["relax_iterations"], seed=seed)
-    common = dict(g_levels=v["g_levels"], max_steps=v["max_steps"], threads=v.get("threads", 1),
-                  refine_to=v.get("refine_to"))
-    members = []
-    if v["conventional"]:
-        members.append(dict(label="conventional", params=dict(base, conventional=True),
-                            **common))
-    members += [dict(label=f"T={t}", params=dict(base, flaw_tensile=t * MPA), **common)
-                for t in v["tensile"]]
-    return members
-
-
 def run(variant: str = "quick", seed: int = 1, progress=None) -> CaseResult:
     if variant not in VARIANTS:
         raise ValueError(f"variant must be one of {sorted(VARIANTS)}, got {variant!r}")
     v = VARIANTS[variant]
     progress = progress or (lambda message: None)
     result = CaseResult("longtan", variant, seed, reference=dict(REFERENCE))
-    members = _members(v, seed)
+    members = centrifuge.ramp_members(v, seed)
     progress(f"{len(members)} DEM runs (g-levels {v['g_levels'][0]}..{v['g_levels'][-1]})")
     runs = run_sweep(run_member, members, workers=v["workers"], progress=progress)
     by_label = {r["label"]: r for r in runs}
