@@ -13,8 +13,8 @@ so a crash in one does not stop the rest:
                      continuum s/iteration
 - lab_resolution.py  error against run time of the lab case (UCS, shear peak: block size,
                      time-step safety)
-- centrifuge_resolution.py  Adhikary failure g against block size and run time (quick: 8 and
-                     6 mm; full: 8, 6, 4 mm)
+- centrifuge_resolution.py  Adhikary failure g against block size and run time (quick: 8, 6
+                     and 4 mm; full: 8, 6, 4, 3 mm)
 - regression_numbers.py   prints the regression-guard numbers (does not rewrite the reference)
 - full only: continuum_scaling.py (slope and footing refinement), throughput.py --scaling,
   column_bending.py (flexural strength of a Voronoi column against beam theory by block size)
@@ -40,8 +40,8 @@ def main():
     mode = "--full" if a.full else "--quick"
     jobs = [["error_vs_time.py", mode], ["stability_map.py", mode], ["leave_out.py", mode],
             ["performance.py", mode], ["lab_resolution.py", mode],
-            ["centrifuge_resolution.py", "--edges", "0.008", "0.006"]
-            + (["0.004"] if a.full else []), ["regression_numbers.py"]]
+            ["centrifuge_resolution.py", "--edges", "0.008", "0.006", "0.004"]
+            + (["0.003"] if a.full else []), ["regression_numbers.py"]]
     if a.full:
         jobs += [["continuum_scaling.py"], ["throughput.py", "--scaling"],
                  ["column_bending.py", "--edges", "0.006", "0.004", "0.003"]]

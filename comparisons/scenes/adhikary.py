@@ -18,7 +18,8 @@ toolkit's convention: joints dipping into the slope are ``dip_direction="left"``
   horizontal displacement is out of the slope (+x).
 
 Materials (CASES.md): blocks E 2.6 GPa, nu 0.16, unit weight 23.8 kN/m3; flaws kn 700, ks 600
-GPa/m, T 1.1 MPa, c 1.6 MPa, friction 37; bedding c 15 kPa, friction 23, T 0.
+GPa/m, T 1.1 MPa, c 1.6 MPa, friction 37; bedding c 15 kPa, friction 23, T 0 (not given in the
+thesis: UDEC's default; ``bedding_tensile`` sets another, Pa).
 **Assumption**: the bedding stiffness is not given; it is taken equal to the flaws' (the planes
 of the model were glued and tight).
 """
@@ -55,6 +56,7 @@ class AdhikaryParams:
     flaw_kn: float = 700e9
     flaw_ks: float = 600e9
     bedding_cohesion: float = 15e3
+    bedding_tensile: float = 0.0
     bedding_friction: float = 23.0
     bedding_kn: float = 700e9
     bedding_ks: float = 600e9
@@ -117,7 +119,7 @@ def geometry(p: AdhikaryParams) -> GeometrySpec:
 def materials(p: AdhikaryParams) -> dict:
     flaw = Material(kn=p.flaw_kn, ks=p.flaw_ks, tensile_strength=p.flaw_tensile,
                     cohesion=p.flaw_cohesion, friction=p.flaw_friction)
-    bedding = Material(kn=p.bedding_kn, ks=p.bedding_ks, tensile_strength=0.0,
+    bedding = Material(kn=p.bedding_kn, ks=p.bedding_ks, tensile_strength=p.bedding_tensile,
                        cohesion=p.bedding_cohesion, friction=p.bedding_friction,
                        residual_cohesion=0.0)
     return {"flaw:rock": flaw, "joint:bedding": bedding}
