@@ -5,8 +5,11 @@ without servo or applied loads pays nothing for them.
 """
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 from numba import njit
+from numba.core.errors import NumbaPerformanceWarning
 
 from .law import coulomb_law
 
@@ -61,7 +64,13 @@ def log_crack(cracks, crack_count, time, xa, ya, event, a, b, m):
     crack_count[0] = i + 1
 
 
-@njit(cache=True)
+# parallel=True without a prange: numba's parallel pipeline compiles this loop to code that
+# ran 11x faster (13 vs 146 ns per contact on the 2-core VM, 2026-11-21; same results to the
+# bit) than the plain pipeline; it still runs on the calling thread. Numba warns that it found
+# nothing to parallelise: expected here, so that one warning is silenced.
+warnings.filterwarnings("ignore", category=NumbaPerformanceWarning,
+                        message=r"(?s).*parallel=True.*no transformation for parallel")
+@njit(cache=True, parallel=True)
 def add_contact_forces(nc, block_a, block_b, point_a, point_b, normal_b, length, kn, ks,
                        material, strength, sn, ts, un, us, up, broken, slipping,
                        pos, rot, f, time, cracks, crack_count):
