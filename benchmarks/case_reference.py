@@ -26,7 +26,7 @@ WHY = (
     "e model is chaotic near failure: a different CPU (fused multiply-add), compiler or numba v"
     "ersion changes round-off, hence the order of bond failures. The tolerances allow that and "
     "still catch a physics change: two bisection steps of the g-ramp (20 g) for a failure g (th"
-    "e T study spans 60 g), 10 % for a peak stress (the spread over seeds of the quick lajtai s"
+    "e T study spans 50 g), 10 % for a peak stress (the spread over seeds of the quick lajtai s"
     "pecimens; the k = 1 corner lock fixed this session moved its points by 32-67 %). A failure"
     " g of null means no failure up to the last level.")
 

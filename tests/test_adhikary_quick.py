@@ -9,7 +9,7 @@
 - the damage model's rupture runs from the toe into the slope;
 
 and that its failure g-levels are the stored regression numbers (tests/case_reference.json).
-Quick = 8 mm blocks, 40 g levels bisected to 10 g, one process per run (two side by side).
+Quick = 6 mm blocks, 40 g levels bisected to 10 g, one process per run (two side by side).
 """
 import json
 from pathlib import Path
