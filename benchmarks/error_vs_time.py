@@ -12,7 +12,6 @@ Writes results/error_vs_time.json and results/error_vs_time.png.
 """
 from __future__ import annotations
 
-import argparse
 import time
 
 import numpy as np
@@ -153,10 +152,7 @@ def plot(results, path):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    g = ap.add_mutually_exclusive_group()
-    g.add_argument("--quick", action="store_true", help="(default) a few minutes")
-    g.add_argument("--full", action="store_true")
+    ap = scenes.quick_or_full_parser(__doc__.splitlines()[0])
     ap.add_argument("--only", choices=["dem", "continuum"])
     a = ap.parse_args(argv)
     info = scenes.machine()

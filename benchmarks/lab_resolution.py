@@ -12,7 +12,6 @@ benchmarks/results/lab_resolution.json and .png.
 """
 from __future__ import annotations
 
-import argparse
 import time
 
 import scenes
@@ -24,10 +23,7 @@ EDGES = {"quick": [0.005, 0.007, 0.011], "full": [0.004, 0.005, 0.006, 0.007, 0.
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    g = ap.add_mutually_exclusive_group()
-    g.add_argument("--quick", action="store_true")
-    g.add_argument("--full", action="store_true")
+    ap = scenes.quick_or_full_parser(__doc__.splitlines()[0])
     a = ap.parse_args(argv)
     mode = "full" if a.full else "quick"
     cfg = dict(lajtai.VARIANTS["quick"], seed=1, accuracy_edges=EDGES[mode],

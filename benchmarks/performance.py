@@ -20,7 +20,6 @@ Writes results/performance.json and results/performance.png.
 """
 from __future__ import annotations
 
-import argparse
 import time
 
 import numpy as np
@@ -180,10 +179,7 @@ def plot(out, path):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    g = ap.add_mutually_exclusive_group()
-    g.add_argument("--quick", action="store_true")
-    g.add_argument("--full", action="store_true")
+    ap = scenes.quick_or_full_parser(__doc__.splitlines()[0])
     a = ap.parse_args(argv)
     out = {"machine": scenes.machine(), "mode": "full" if a.full else "quick",
            "threads": [1, 2],

@@ -8,6 +8,7 @@ machine information for the JSON files.
 """
 from __future__ import annotations
 
+import argparse
 import json
 import math
 import os
@@ -32,6 +33,16 @@ block_on_plane, tilt, bonded_pair = _cf.block_on_plane, _cf.tilt, _cf.bonded_pai
 voronoi_bar, pull, spec_materials = _sp.voronoi_bar, _sp.pull, _sp.materials
 measured_modulus = _sp.measured_modulus
 stability_specimen = _st.specimen
+
+
+def quick_or_full_parser(description: str) -> argparse.ArgumentParser:
+    """The benchmarks' command line: ``--quick`` (the default) or ``--full``; add more options to
+    the returned parser. ``args.full`` tells which."""
+    ap = argparse.ArgumentParser(description=description)
+    g = ap.add_mutually_exclusive_group()
+    g.add_argument("--quick", action="store_true", help="(default)")
+    g.add_argument("--full", action="store_true")
+    return ap
 
 
 def machine() -> dict:

@@ -24,7 +24,6 @@ Writes results/stability_map.json and results/stability_map.png.
 """
 from __future__ import annotations
 
-import argparse
 import math
 import time
 
@@ -291,10 +290,7 @@ def plot(out, path):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    g = ap.add_mutually_exclusive_group()
-    g.add_argument("--quick", action="store_true", help="(default)")
-    g.add_argument("--full", action="store_true")
+    ap = scenes.quick_or_full_parser(__doc__.splitlines()[0])
     ap.add_argument("--only", choices=["dem", "continuum"])
     a = ap.parse_args(argv)
     out = {"machine": scenes.machine(), "mode": "full" if a.full else "quick"}
