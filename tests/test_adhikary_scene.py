@@ -61,3 +61,16 @@ def test_columns_topple_out_of_the_slope_under_raised_gravity(blocks):
     ux_a, ux_b = np.array(rec.point_ux["A"]), np.array(rec.point_ux["B"])
     assert np.all(ux_a > 0) and np.all(ux_b > 0)
     assert ux_a[1] > 1.5 * ux_a[0]
+
+
+def test_bedding_law_is_the_thesis_residual_unless_asked():
+    """The beds lose cohesion and tension on failure (thesis eqs 3.1-3.5, UDEC's Coulomb slip);
+    ``bedding_tensile`` and ``bedding_residual_cohesion`` change that only when set."""
+    default = scene.materials(scene.AdhikaryParams())["joint:bedding"]
+    assert (default.cohesion, default.tensile_strength, default.friction) == (15e3, 0.0, 23.0)
+    assert (default.residual_cohesion, default.residual_tensile_strength) == (0.0, 0.0)
+    plastic = scene.materials(scene.AdhikaryParams(bedding_cohesion=5e3, bedding_tensile=2e3,
+                                                   bedding_residual_cohesion=5e3))
+    bed = plastic["joint:bedding"]
+    assert (bed.cohesion, bed.tensile_strength, bed.residual_cohesion) == (5e3, 2e3, 5e3)
+    assert plastic["flaw:rock"] == scene.materials(scene.AdhikaryParams())["flaw:rock"]

@@ -19,7 +19,9 @@ toolkit's convention: joints dipping into the slope are ``dip_direction="left"``
 
 Materials (CASES.md): blocks E 2.6 GPa, nu 0.16, unit weight 23.8 kN/m3; flaws kn 700, ks 600
 GPa/m, T 1.1 MPa, c 1.6 MPa, friction 37; bedding c 15 kPa, friction 23, T 0 (not given in the
-thesis: UDEC's default; ``bedding_tensile`` sets another, Pa).
+thesis: UDEC's default; ``bedding_tensile`` sets another, Pa) and, after a tensile or shear
+failure, friction only (the thesis's residual c = T = 0; ``bedding_residual_cohesion``, Pa, keeps
+some cohesion on slipped beds: a perfectly plastic bedding when equal to ``bedding_cohesion``).
 **Assumption**: the bedding stiffness is not given; it is taken equal to the flaws' (the planes
 of the model were glued and tight).
 """
@@ -57,6 +59,7 @@ class AdhikaryParams:
     flaw_ks: float = 600e9
     bedding_cohesion: float = 15e3
     bedding_tensile: float = 0.0
+    bedding_residual_cohesion: float = 0.0
     bedding_friction: float = 23.0
     bedding_kn: float = 700e9
     bedding_ks: float = 600e9
@@ -121,7 +124,7 @@ def materials(p: AdhikaryParams) -> dict:
                     cohesion=p.flaw_cohesion, friction=p.flaw_friction)
     bedding = Material(kn=p.bedding_kn, ks=p.bedding_ks, tensile_strength=p.bedding_tensile,
                        cohesion=p.bedding_cohesion, friction=p.bedding_friction,
-                       residual_cohesion=0.0)
+                       residual_cohesion=p.bedding_residual_cohesion)
     return {"flaw:rock": flaw, "joint:bedding": bedding}
 
 
