@@ -120,17 +120,20 @@ def displacement_figure(runs: list, continuum: dict | None = None):
     levels are drawn in order of g (a bisected ramp runs them out of order)."""
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(6, 4))
-    for r in runs:
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    # one colour per run (A solid, B dotted): the default cycle repeats after ten runs
+    colours = plt.get_cmap("tab10" if len(runs) <= 10 else "tab20")
+    for i, r in enumerate(runs):
         g, ux_a, ux_b = displacement_rows(r).T
-        ax.plot(g, 1e3 * ux_a, "-o", ms=3, label=f"A, {r['label']}")
-        ax.plot(g, 1e3 * ux_b, ":s", ms=3, label=f"B, {r['label']}")
+        ax.plot(g, 1e3 * ux_a, "-o", ms=3, color=colours(i), label=f"A, {r['label']}")
+        ax.plot(g, 1e3 * ux_b, ":s", ms=3, color=colours(i), label=f"B, {r['label']}")
     if continuum is not None and len(continuum.get("g", [])):
         ax.plot(continuum["g"], 1e3 * np.asarray(continuum["ux_A"]), "k--",
                 label="A, continuum")
     ax.set_xlabel("g-level")
     ax.set_ylabel("horizontal displacement (mm, + out of slope)")
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    fig.tight_layout()
     return fig
 
 
