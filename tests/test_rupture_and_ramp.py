@@ -86,6 +86,33 @@ def test_gravity_ramp_bisection_brackets_the_closed_form_g_level_finely():
         raise_gravity(model, [1.0], refine_to=0.0)
 
 
+def test_gravity_ramp_refinement_ends_in_steps_of_refine_to():
+    """A sudden 9 g step (ramp_steps=0, light damping) overshoots: the hanging block breaks at
+    19 g, below its static N = T / (rho h g) = 20.4 g. Refined to 1 g, the ramp ends in 1 g steps
+    from the last stable level, so it fails where the overshoot of a 1 g step (at most the step
+    again) reaches N: last stable + 2 >= N >= failure g > 19."""
+    h, w, rho, tensile = 0.1, 0.1, 2500.0, 50e3
+    mat = Material(kn=1e10, ks=1e10, tensile_strength=tensile, cohesion=1e6, friction=30)
+    n_crit = tensile / (rho * h * 9.81)
+
+    def ramp(levels, refine_to):
+        model = Model(brick_grid(1, 2, w, h), {"flaw:*": mat}, density=rho, damping=0.05)
+        model.fix("top")
+        model.add_history_point("tip", (0.05, 0.0))
+        return raise_gravity(model, levels, ratio=1e-5, max_steps=4000, ramp_steps=0,
+                             failure_displacement=0.01, watch=("tip",), refine_to=refine_to)
+
+    coarse = ramp([10.0, 19.0, 50.0], None)
+    assert coarse.failure_g == 19.0 < n_crit
+    fine = ramp([10.0, 19.0, 50.0], 1.0)
+    assert 19.0 < fine.failure_g <= n_crit <= fine.last_stable_g + 2.0
+    assert fine.failure_g - fine.last_stable_g == pytest.approx(1.0)
+    assert fine.verdict[1] == "failed" and fine.verdict[-1] == "failed"
+    # the 1 g steps reach the last level without failing: no failure up to it
+    capped = ramp([10.0, 19.0], 1.0)
+    assert capped.failure_g is None and capped.last_stable_g == 19.0
+
+
 def test_gravity_ramp_rejects_bad_levels():
     bs = brick_grid(1, 2, 0.1, 0.1)
     model = Model(bs, {"flaw:*": Material(kn=1e10, ks=1e10)}, density=2500.0)
