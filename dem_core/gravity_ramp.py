@@ -43,8 +43,8 @@ class RampRecord:
     point_ux, point_uy : name -> horizontal / vertical displacement (m) of each history point at
     the end of each level; cracks : total crack count after each level;
     failure_g : the first failed g-level (None if none failed); last_stable_g; seconds.
-    Levels run by the bisection of ``refine_to`` are appended in the order they were run, so
-    ``g`` is then no longer increasing; ``refined`` holds their number.
+    Levels run by ``refine_to`` (bisection, then the closing steps) are appended in the order
+    they were run, so ``g`` is then no longer increasing; ``refined`` holds their number.
     """
 
     g: list = field(default_factory=list)
