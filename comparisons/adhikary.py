@@ -66,7 +66,7 @@ VARIANTS = {
                   continuum_h=0.012, workers=2, threads=1),
     # full: every run of the thesis (T = 0.8..1.4 MPa in 0.1 steps, flaw friction 32 and 25,
     # bedding c 5 kPa, conventional) on the quick's blocks, 10 g levels bisected to 1 g (the
-    # thesis's 1 g steps); about 25 minutes on 2 cores. Finer blocks change the failure g more
+    # thesis's 1 g steps); about 35 minutes on 2 cores. Finer blocks change the failure g more
     # than any study does (not converged: benchmarks/centrifuge_resolution.py), so they are a
     # separate study, not this variant.
     "full": dict(edge_length=0.006, relax_iterations=10, g_levels=list(range(10, 301, 10)),
