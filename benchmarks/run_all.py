@@ -14,7 +14,9 @@ so a crash in one does not stop the rest:
 - lab_resolution.py  error against run time of the lab case (UCS, shear peak: block size,
                      time-step safety)
 - centrifuge_resolution.py  Adhikary failure g against block size and run time (quick: 8, 6
-                     and 4 mm; full: 8, 6, 4, 3 mm)
+                     and 4 mm; full: 8, 6, 4, 3 mm; the case's 1 g-step ramp, two processes)
+- bedding_demand.py  Adhikary beds' elastic shear demand against bedding cohesion, DEM and
+                     continuum (docs/comparisons.md)
 - regression_numbers.py   prints the regression-guard numbers (does not rewrite the reference)
 - full only: continuum_scaling.py (slope and footing refinement), throughput.py --scaling,
   column_bending.py (flexural strength of a Voronoi column against beam theory by block size)
@@ -41,7 +43,7 @@ def main():
     jobs = [["error_vs_time.py", mode], ["stability_map.py", mode], ["leave_out.py", mode],
             ["performance.py", mode], ["lab_resolution.py", mode],
             ["centrifuge_resolution.py", "--edges", "0.008", "0.006", "0.004"]
-            + (["0.003"] if a.full else []), ["regression_numbers.py"]]
+            + (["0.003"] if a.full else []), ["bedding_demand.py"], ["regression_numbers.py"]]
     if a.full:
         jobs += [["continuum_scaling.py"], ["throughput.py", "--scaling"],
                  ["column_bending.py", "--edges", "0.006", "0.004", "0.003"]]
