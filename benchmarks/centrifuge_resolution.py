@@ -7,9 +7,12 @@ kinetic damping; a step limit per level that grows as the blocks get smaller), r
 ``--workers`` processes. The error is taken against the experiment's 80-85 g (zero inside the
 range) and the thesis's 70 g.
 
-    python benchmarks/centrifuge_resolution.py [--edges 0.008 0.006 0.004] [--workers 2]
+    python benchmarks/centrifuge_resolution.py [--edges 0.008 0.006 0.004] [--seeds 1]
+                                               [--workers 2]
 
-Writes benchmarks/results/centrifuge_resolution.json and .png.
+Every edge is run with every tessellation seed of ``--seeds`` (the scatter of one block size).
+
+Writes benchmarks/results/centrifuge_resolution.json and .png (``--name`` renames them).
 """
 from __future__ import annotations
 
@@ -38,7 +41,8 @@ def member(edge: float, seed: int = 1) -> dict:
 
 
 def row(m: dict, r: dict) -> dict:
-    return {"edge_m": m["params"]["edge_length"], "blocks": r["blocks"],
+    return {"edge_m": m["params"]["edge_length"], "seed": m["params"]["seed"],
+            "blocks": r["blocks"],
             "contacts": r["contacts"], "g_step": m["g_levels"][1] - m["g_levels"][0],
             "g_resolution": m["refine_to"], "max_steps_per_level": m["max_steps"],
             "failure_g": r["failure_g"], "last_stable_g": r["last_stable_g"],
@@ -50,15 +54,18 @@ def row(m: dict, r: dict) -> dict:
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--edges", type=float, nargs="+", default=[0.008, 0.006, 0.004])
+    ap.add_argument("--seeds", type=int, nargs="+", default=[1])
     ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--name", default="centrifuge_resolution",
+                    help="file name of the results (without .json / .png)")
     a = ap.parse_args(argv)
-    members = [member(edge) for edge in a.edges]
+    members = [member(edge, seed) for edge in a.edges for seed in a.seeds]
     rows = [row(m, r) for m, r in zip(members, run_sweep(run_member, members, a.workers))]
     for r in rows:
         print(json.dumps(r), flush=True)
     out = Path(__file__).parent / "results"
     out.mkdir(exist_ok=True)
-    (out / "centrifuge_resolution.json").write_text(json.dumps(
+    (out / f"{a.name}.json").write_text(json.dumps(
         {"machine": f"{platform.machine()} {platform.platform()}", "workers": a.workers,
          "rows": rows}, indent=2))
     import matplotlib.pyplot as plt
@@ -67,12 +74,13 @@ def main(argv=None):
     for r in rows:
         e = r["error_vs_experiment"]["rel_error"]
         ax.plot(r["seconds"], 100 * (e if e is not None else float("nan")), "o")
-        ax.annotate(f"{1e3 * r['edge_m']:.0f} mm", (r["seconds"], 100 * (e or 0)))
+        ax.annotate(f"{1e3 * r['edge_m']:.0f} mm, seed {r['seed']}",
+                    (r["seconds"], 100 * (e or 0)))
     ax.set_xlabel("run time (s)")
     ax.set_ylabel("failure g error vs experiment (%)")
     ax.set_title("Adhikary centrifuge, damage model, T = 1.1 MPa")
     fig.tight_layout()
-    fig.savefig(out / "centrifuge_resolution.png", dpi=110)
+    fig.savefig(out / f"{a.name}.png", dpi=110)
 
 
 if __name__ == "__main__":
