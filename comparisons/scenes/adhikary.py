@@ -50,9 +50,11 @@ class AdhikaryParams:
     edge_length: float = 0.004
     relax_iterations: int = 20
     seed: int = 1
-    # seed rows on both sides of every bed joint (cell edges along the joints, few slivers); in
-    # 10 mm beds they leave few or no random seeds at 4-8 mm edges: False tessellates randomly
-    # and splits the cells along the joints (docs/verification.md, block size)
+    # True (default): seed rows on both sides of every bed joint (cell edges along the joints);
+    # in 10 mm beds those rows leave few or no random seeds at 4-8 mm edges, a regular pattern
+    # that does not change with the seed. False: random relaxed Voronoi cells split along the
+    # beds, like the thesis's tessellation inside each bed (docs/comparisons.md, measured
+    # session 5; not yet the default: the full variant has not been rerun with it)
     edge_seeding: bool = True
     joint_dip: float = 81.0
     joint_spacing: float = 0.010
