@@ -86,9 +86,9 @@ def dem_bedding_stress(edge: float, g: float):
     ts = np.bincount(edge_id, weights=c.ts[:n][bedding] * length) / total
     # keep edges above the base (the fixed blocks' beds carry the clamp, not the slope)
     rot = model.state.theta[a]
-    xa = model.state.pos[a, 1] + (np.sin(rot) * c.point_a[:n][bedding][:, 0]
-                                  + np.cos(rot) * c.point_a[:n][bedding][:, 1])
-    y = np.bincount(edge_id, weights=xa * length) / total
+    y_contact = model.state.pos[a, 1] + (np.sin(rot) * c.point_a[:n][bedding][:, 0]
+                                         + np.cos(rot) * c.point_a[:n][bedding][:, 1])
+    y = np.bincount(edge_id, weights=y_contact * length) / total
     above = y > p.base_thickness
     return sn[above], ts[above], total[above], res.steps, time.perf_counter() - t0
 
