@@ -4,7 +4,8 @@
   from 1.1 to 1.4);
 - the flaw friction (25 instead of 37 degrees) changes the failure g by less than the T range
   does ("little effect");
-- a lower bedding cohesion (5 instead of 15 kPa) fails earlier (thesis about 50 vs 70 g);
+- a lower bedding cohesion (5 instead of 15 kPa) fails earlier by more than the quick's 10 g
+  resolution (thesis about 50 vs 70 g; a strict xfail, see its reason);
 - the conventional mode (unbreakable flaws) fails later than the damage model (thesis 115 g);
 - the damage model's rupture runs from the toe into the slope;
 
@@ -54,16 +55,19 @@ def test_flaw_friction_matters_less_than_tensile_strength(quick):
 
 @pytest.mark.xfail(strict=True, reason=(
     "with the thesis's residual law (c = T = 0 once a contact slips) the beds hold by cohesion "
-    "alone and have mostly slipped by 40 g at 5-50 kPa, long before the ~100 g failure, so 5 and "
-    "15 kPa fail at the same g (6 mm seeds 1-3 within one bisection step either way; 4 mm, 1 g "
-    "steps: 56.4 vs 56.6 g). The elastic demand agrees in DEM and continuum "
-    "(benchmarks/bedding_demand.py: 61-64 % of the beds past 15 kPa by 40 g, 5 and 15 kPa differ "
-    "in 6-8 % of the beds at 70 g). Perfectly plastic beds give the trend (120/140/170 g at "
-    "5/15/50 kPa) but are not the thesis's law (docs/comparisons.md, ## adhikary)"))
+    "alone and have mostly slipped by 40 g at 5-50 kPa, long before the ~80 g failure, so 5 and "
+    "15 kPa fail at about the same g (6 mm random cells, 1 g steps: 76.4 vs 75.6 g seed 1, "
+    "92.9 vs 77.9 g seed 2; 4 mm seed rows: 56.4 vs 56.6 g). The elastic demand agrees in DEM "
+    "and continuum (benchmarks/bedding_demand.py: 61-64 % of the beds past 15 kPa by 40 g, 5 and "
+    "15 kPa differ in 6-8 % of the beds at 70 g). Perfectly plastic beds give the trend "
+    "(120/140/170 g at 5/15/50 kPa) but are not the thesis's law (docs/comparisons.md)"))
 def test_lower_bedding_cohesion_fails_earlier(quick):
+    # thesis: about 20 g earlier (50 vs 70 g). A difference of one bisection step is within
+    # the quick's resolution (in the 1 g runs above 5 kPa fails 1 and 15 g later than 15 kPa),
+    # so the trend counts only when the 5 kPa run fails more than one step earlier
     (cohesion_kpa, g_low), = quick.methods["dem"]["bedding_cohesion_study"]
     assert cohesion_kpa == 5.0
-    assert g_low < _failure_g(quick, 1.1)
+    assert g_low < _failure_g(quick, 1.1) - quick.methods["dem"]["g_resolution"]
 
 
 def test_conventional_mode_fails_later_than_the_damage_model(quick):

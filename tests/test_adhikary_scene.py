@@ -76,14 +76,15 @@ def test_bedding_law_is_the_thesis_residual_unless_asked():
     assert plastic["flaw:rock"] == scene.materials(scene.AdhikaryParams())["flaw:rock"]
 
 
-def test_edge_seeding_off_makes_the_seed_choose_the_blocks():
+def test_random_cells_are_the_default_and_the_seed_chooses_them():
     # 8 mm cells in 10 mm beds: the seed rows along the joints leave no random seeds, so the
-    # seed does not matter; without them the tessellation is random and the seed does
+    # seed does not matter; without them (the default) the tessellation is random and it does
+    assert scene.AdhikaryParams().edge_seeding is False
     def areas(**changes):
         p = scene.AdhikaryParams(edge_length=0.008, relax_iterations=2, **changes)
         return np.sort(build_block_system(scene.geometry(p)).area)
 
-    assert np.array_equal(areas(seed=1), areas(seed=2))
-    random_1, random_2 = areas(seed=1, edge_seeding=False), areas(seed=2, edge_seeding=False)
+    assert np.array_equal(areas(seed=1, edge_seeding=True), areas(seed=2, edge_seeding=True))
+    random_1, random_2 = areas(seed=1), areas(seed=2)
     assert random_1.sum() == pytest.approx(random_2.sum(), rel=1e-9)
     assert random_1.size != random_2.size or not np.allclose(random_1, random_2)

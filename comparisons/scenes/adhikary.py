@@ -50,12 +50,11 @@ class AdhikaryParams:
     edge_length: float = 0.004
     relax_iterations: int = 20
     seed: int = 1
-    # True (default): seed rows on both sides of every bed joint (cell edges along the joints);
-    # in 10 mm beds those rows leave few or no random seeds at 4-8 mm edges, a regular pattern
-    # that does not change with the seed. False: random relaxed Voronoi cells split along the
-    # beds, like the thesis's tessellation inside each bed (docs/comparisons.md, measured
-    # session 5; not yet the default: the full variant has not been rerun with it)
-    edge_seeding: bool = True
+    # False (default): random relaxed Voronoi cells split along the bed joints, like the
+    # thesis's tessellation inside each bed. True: seed rows on both sides of every bed joint
+    # (cell edges along the joints); in 10 mm beds those rows leave few or no random seeds at
+    # 4-8 mm edges, a regular pattern the seed does not change (docs/comparisons.md)
+    edge_seeding: bool = False
     joint_dip: float = 81.0
     joint_spacing: float = 0.010
     flaw_tensile: float = 1.1e6
