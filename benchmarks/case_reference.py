@@ -5,10 +5,11 @@
     python benchmarks/case_reference.py --results /tmp/q [--cases adhikary lajtai] [--write]
 
 Reads results/<case>/summary.json of the quick ``adhikary`` and ``lajtai`` runs and prints (or,
-with ``--write``, stores) the numbers the test suite checks. ``--cases`` re-measures only the
-named cases and keeps the stored entries of the others (each entry carries its own date) (tests/test_adhikary_quick.py,
-tests/test_lajtai_case.py), with their tolerances and the reason for each tolerance. Regenerate
-only after a deliberate physics or solver change, and say so in the commit.
+with ``--write``, stores) the numbers the test suite checks (tests/test_adhikary_quick.py,
+tests/test_lajtai_case.py), with their tolerances and the reason for each tolerance.
+``--cases`` re-measures only the named cases and keeps the stored entries of the others (each
+entry carries its own date). Regenerate only after a deliberate physics or solver change, and
+say so in the commit.
 """
 from __future__ import annotations
 

@@ -33,7 +33,7 @@ MAX_STEPS = {0.008: 30_000, 0.006: FULL["max_steps"], 0.004: 60_000, 0.003: 80_0
 
 
 def member(edge: float, seed: int = 1, tensile_mpa: float = 1.1) -> dict:
-    """The sweep member of one block size (the case's T = 1.1 MPa run at another edge)."""
+    """The sweep member of one block size (the case's base run at another edge, seed or T)."""
     return dict(label=f"edge {edge}",
                 params=dict(edge_length=edge, seed=seed, flaw_tensile=tensile_mpa * 1e6,
                             relax_iterations=FULL["relax_iterations"]),
