@@ -1,6 +1,7 @@
 """Run every benchmark: JSON and PNG figures into benchmarks/results/.
 
-    .venv/bin/python benchmarks/run_all.py --quick     # a few minutes on 2 shared cores
+    .venv/bin/python benchmarks/run_all.py --quick     # about an hour on 2 cores (mostly the
+                                                       # Adhikary block-size runs)
     .venv/bin/python benchmarks/run_all.py --full      # the full grids (tens of minutes)
 
 Runs one after the other (never in parallel: the machine is shared), each in its own process
