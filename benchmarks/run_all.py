@@ -1,8 +1,8 @@
 """Run every benchmark: JSON and PNG figures into benchmarks/results/.
 
-    .venv/bin/python benchmarks/run_all.py --quick     # about an hour on 2 cores (mostly the
-                                                       # Adhikary block-size runs)
-    .venv/bin/python benchmarks/run_all.py --full      # the full grids (tens of minutes)
+    .venv/bin/python benchmarks/run_all.py --quick     # over 45 min on 2 cores: the Adhikary
+                                                       # block-size runs (unfinished, session 6)
+    .venv/bin/python benchmarks/run_all.py --full      # the full grids (longer still)
 
 Runs one after the other (never in parallel: the machine is shared), each in its own process
 so a crash in one does not stop the rest:
