@@ -34,7 +34,7 @@ MAX_STEPS = {0.008: 30_000, 0.006: FULL["max_steps"], 0.004: 60_000, 0.003: 80_0
 
 def member(edge: float, seed: int = 1, tensile_mpa: float = 1.1) -> dict:
     """The sweep member of one block size (the case's base run at another edge, seed or T)."""
-    return dict(label=f"edge {edge}",
+    return dict(label=f"edge {edge} seed {seed} T {tensile_mpa}",
                 params=dict(edge_length=edge, seed=seed, flaw_tensile=tensile_mpa * 1e6,
                             relax_iterations=FULL["relax_iterations"]),
                 g_levels=FULL["g_levels"], max_steps=MAX_STEPS.get(edge, MAX_STEPS[0.003]),
@@ -48,7 +48,7 @@ def row(m: dict, r: dict) -> dict:
             "contacts": r["contacts"], "g_step": m["g_levels"][1] - m["g_levels"][0],
             "g_resolution": m["refine_to"], "max_steps_per_level": m["max_steps"],
             "failure_g": r["failure_g"], "last_stable_g": r["last_stable_g"],
-            "seconds": r["runtime_s"],
+            "levels": len(r["g"]), "steps": r["steps"], "seconds": r["runtime_s"],
             "error_vs_experiment": metric_error(r["failure_g"], [80.0, 85.0]),
             "error_vs_thesis": metric_error(r["failure_g"], 70.0)}
 
