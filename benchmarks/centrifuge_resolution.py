@@ -49,6 +49,8 @@ def row(m: dict, r: dict) -> dict:
             "g_resolution": m["refine_to"], "max_steps_per_level": m["max_steps"],
             "failure_g": r["failure_g"], "last_stable_g": r["last_stable_g"],
             "levels": len(r["g"]), "steps": r["steps"], "seconds": r["runtime_s"],
+            # the levels in the order run (bisection and the 1 g closing steps come last)
+            "g_run": r["g"], "verdicts": r["verdict"],
             "error_vs_experiment": metric_error(r["failure_g"], [80.0, 85.0]),
             "error_vs_thesis": metric_error(r["failure_g"], 70.0)}
 
