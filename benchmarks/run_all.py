@@ -1,7 +1,7 @@
 """Run every benchmark: JSON and PNG figures into benchmarks/results/.
 
-    .venv/bin/python benchmarks/run_all.py --quick     # over 45 min on 2 cores: the Adhikary
-                                                       # block-size runs (unfinished, session 6)
+    .venv/bin/python benchmarks/run_all.py --quick     # about 55 min on 2 cores, most of it
+                                                       # the Adhikary 4 mm run (2,591 s)
     .venv/bin/python benchmarks/run_all.py --full      # the full grids (longer still)
 
 Runs one after the other (never in parallel: the machine is shared), each in its own process
