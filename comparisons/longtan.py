@@ -43,7 +43,8 @@ REFERENCE = {
 
 VARIANTS = {
     # quick: 8 mm blocks near the face (about 1.5 across the toe column's bridges, 2 across
-    # the others'), 20 g levels, the base strength only (about 1.5 minutes on 2 cores)
+    # the others'), 40 g levels bisected to 10 g, the base strength only (about 1.5 minutes on
+    # 2 cores)
     "quick": dict(edge_length=0.008, relax_iterations=10, g_levels=list(range(40, 401, 40)),
                   refine_to=10.0, max_steps=30_000, tensile=[4.81], conventional=True,
                   continuum=True, continuum_h=0.02, workers=2, threads=1),
