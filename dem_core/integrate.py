@@ -15,7 +15,13 @@ Kinetic damping (``flags[4]`` = the check interval in steps, 0 = off; dynamic re
 every that many steps the kinetic energy of the free velocity components (inertial masses) is
 compared with the previous check; when it has fallen, the model has just passed a kinetic-energy
 peak, i.e. its lowest active mode is near its static position, and every free velocity is set
-to zero. (Checking every step would react to the step-to-step flicker of the many fast modes
+to zero. The motion then restarts as leapfrog starts from rest: the first velocity update after
+the stop is half a step (v = a dt/2), which makes the stopped position a turning point of every
+mode. A plain v = 0 (the first update a full step) puts the turning point half a step earlier,
+so each stop would start every fast mode with its amplitude divided by cos(omega dt/2), up to
+14 % at the safety factor 0.5; because stops come when the kinetic energy is low, i.e. with the
+fast modes near their turning points, that gain compounded into a growing block-scale rattle
+(the Longtan conventional run, docs/mechanics.md). (Checking every step would react to the step-to-step flicker of the many fast modes
 and freeze the model; the interval must stay well below a quarter of the slowest period.) Local damping converges a slender model's
 lowest bending mode only over many of its periods (it becomes a slow creep); kinetic damping
 stops it near the static state within a few quarter periods. Prescribed velocities are kept.
@@ -56,8 +62,14 @@ def _damped(f, v, alpha):
 
 @njit(cache=True)
 def advance(f, pos, theta, vel, omega, inv_mass, inv_inertia, fixity, velocity_bc, active,
-            radius, pos_search, theta_search, alpha, dt, half_margin):
-    """Damp, integrate and check every block; returns (status, block)."""
+            radius, pos_search, theta_search, alpha, dt, half_margin, kick=-1.0):
+    """Damp, integrate and check every block; returns (status, block).
+
+    ``kick`` (s): the time of the velocity update, default ``dt`` (``dt / 2`` on the first step
+    after a kinetic-damping stop, see the module docstring); positions always move by v dt.
+    """
+    if kick < 0.0:
+        kick = dt
     status, bad = 0, -1
     for i in range(pos.shape[0]):
         if not active[i]:
@@ -66,15 +78,15 @@ def advance(f, pos, theta, vel, omega, inv_mass, inv_inertia, fixity, velocity_b
         if fx & 1:
             vel[i, 0] = velocity_bc[i, 0]
         else:
-            vel[i, 0] += _damped(f[i, 0], vel[i, 0], alpha) * inv_mass[i] * dt
+            vel[i, 0] += _damped(f[i, 0], vel[i, 0], alpha) * inv_mass[i] * kick
         if fx & 2:
             vel[i, 1] = velocity_bc[i, 1]
         else:
-            vel[i, 1] += _damped(f[i, 1], vel[i, 1], alpha) * inv_mass[i] * dt
+            vel[i, 1] += _damped(f[i, 1], vel[i, 1], alpha) * inv_mass[i] * kick
         if fx & 4:
             omega[i] = velocity_bc[i, 2]
         else:
-            omega[i] += _damped(f[i, 2], omega[i], alpha) * inv_inertia[i] * dt
+            omega[i] += _damped(f[i, 2], omega[i], alpha) * inv_inertia[i] * kick
         step = math.hypot(vel[i, 0], vel[i, 1]) * dt
         turn = abs(omega[i]) * dt
         if not (step <= 0.1 * radius[i] and turn <= 0.1):   # also catches NaN
@@ -133,8 +145,9 @@ def run_steps(nsteps, time, dt, alpha, half_margin, gravity, flags,
     """Advance up to ``nsteps`` steps; returns (steps done, time, status, block).
 
     ``flags`` = [has_gravity, has_loads, has_servo, check_search, kinetic_interval] (int64
-    array); ``ke_last`` (2,) holds, for kinetic damping, the kinetic energy at the previous
-    check (J/m, inertial masses) and the steps since it; updated in place. Stops early
+    array); ``ke_last`` (3,) holds, for kinetic damping, the kinetic energy at the previous
+    check (J/m, inertial masses), the steps since it and 1 when the motion was just stopped
+    (the next velocity update is half a step); updated in place. Stops early
     with status 1 (search needed, after completing the step) or 2 (unstable, before moving).
     With the scratch ``work``/``events`` and the block -> contact table given, the contact
     forces run on several threads (``parallel.add_contact_forces_parallel``, same results).
@@ -158,9 +171,11 @@ def run_steps(nsteps, time, dt, alpha, half_margin, gravity, flags,
         if flags[1]:
             add_loads(load, active, force)
         margin = half_margin if flags[3] else np.inf
+        kick = 0.5 * dt if ke_last[2] != 0.0 else dt
+        ke_last[2] = 0.0
         status, bad = advance(force, pos, theta, vel, omega, inv_mass, inv_inertia, fixity,
                               velocity_bc, active, radius, pos_search, theta_search, alpha, dt,
-                              margin)
+                              margin, kick)
         if status == 2:
             return step, time, 2, bad
         update_rotation(theta, rot)
@@ -173,6 +188,7 @@ def run_steps(nsteps, time, dt, alpha, half_margin, gravity, flags,
                 if ke < ke_last[0]:
                     stop_free_motion(vel, omega, fixity, active)
                     ke = 0.0
+                    ke_last[2] = 1.0          # restart from rest: half a kick next step
                 ke_last[0] = ke
         if status == 1:
             return step + 1, time, 1, bad

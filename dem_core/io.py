@@ -83,7 +83,9 @@ def load_model(path):
     m.block_E, m.block_nu = d["block_E"], d["block_nu"]
     m.cracks, m.crack_count = d["cracks"], d["crack_count"]
     m.gravity = d["gravity"]
-    m.ke_last = d.get("ke_last", np.zeros(2))
+    m.ke_last = np.zeros(3)                  # files before 2026-11-21 hold two entries
+    ke = d.get("ke_last", np.zeros(0))
+    m.ke_last[:len(ke)] = ke
     m.servo_groups = [(d[f"servo.{i}.blocks"], d[f"servo.{i}.params"])
                       for i in range(meta["n_servo"])]
     m.points = {}

@@ -107,7 +107,7 @@ class Model:
             raise ValueError(f"kinetic_damping must be a step interval >= 0 (0: off), got "
                              f"{kinetic_damping!r}")
         self.kinetic_damping = int(kinetic_damping)
-        self.ke_last = np.zeros(2)
+        self.ke_last = np.zeros(3)     # integrate.run_steps: kinetic-damping state
         self.safety = float(safety)
         self.mass_scaling = bool(mass_scaling)
         self.fixed_dt = dt
