@@ -162,6 +162,7 @@ def run(variant: str = "quick", seed: int = 1, progress=None) -> CaseResult:
         f"failure up to {v['g_levels'][-1]} g; its error is then reported as missing.",
         "Bedding-plane stiffness is not given in the thesis; taken equal to the flaws'.",
     ]
+    result.notes += centrifuge.unstable_notes(runs)
     return result
 
 

@@ -59,7 +59,8 @@ def ramp_run(scene, params, member: dict, failure_displacement: float, creep: fl
     default ``DAMPING`` and ``KINETIC_DAMPING``) and ``refine_to`` (g: bisect the failure bracket
     to this width, ``raise_gravity``); the result is a plain dict (a sweep member's
     output) with the histories of A and B, the cracks of the materials whose names start with
-    one of ``rupture_materials``, and ``runtime_s``. The rupture is added by ``rupture``.
+    one of ``rupture_materials``, ``unstable`` (None, or the message of a numerical blow-up:
+    ``raise_gravity`` stops there) and ``runtime_s``. The rupture is added by ``rupture``.
     """
     t0 = time.perf_counter()
     blocks = build_block_system(scene.geometry(params))
@@ -82,8 +83,17 @@ def ramp_run(scene, params, member: dict, failure_displacement: float, creep: fl
         "crack_xy": np.column_stack([log["x"][keep], log["y"][keep]]).tolist(),
         "crack_mode": log["mode"][keep].tolist(),
         "crack_material": [str(m) for m in np.asarray(log["material"])[keep]],
+        "unstable": rec.unstable,
         "runtime_s": time.perf_counter() - t0,
     }
+
+
+def unstable_notes(runs: list) -> list:
+    """A note for each run whose model became numerically unstable (``raise_gravity`` stops
+    the ramp there and sets no failure g): the level and the solver's message."""
+    return [f"{r['label']}: the model became numerically unstable at {r['g'][-1]:g} g, so the "
+            f"ramp stopped there (no failure g from it): {r['unstable']}"
+            for r in runs if r.get("unstable")]
 
 
 def rupture(run: dict, link_distance: float, face_part, joint_dip: float,

@@ -133,6 +133,7 @@ def run(variant: str = "quick", seed: int = 1, progress=None) -> CaseResult:
         f"damping. A failure g of None means no failure up to {v['g_levels'][-1]} g; its "
         f"error is then reported as missing.",
     ]
+    result.notes += centrifuge.unstable_notes(runs)
     return result
 
 

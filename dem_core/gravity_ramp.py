@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .model import ModelUnstable
 from .monitor import SolveResult, verdict
 
 __all__ = ["RampRecord", "raise_gravity"]
@@ -42,8 +43,10 @@ class RampRecord:
     g : g-levels run; verdict : solve verdict per level; steps : steps per level;
     point_ux, point_uy : name -> horizontal / vertical displacement (m) of each history point at
     the end of each level; cracks : total crack count after each level;
-    failure_g : the first failed g-level (None if none failed); last_stable_g; seconds.
-    Levels run by ``refine_to`` (bisection, then the closing steps) are appended in the order
+    failure_g : the first failed g-level (None if none failed); last_stable_g; seconds;
+    unstable : None, or the ``ModelUnstable`` message when the model became numerically
+    unstable (the level is recorded with verdict "unstable" and the ramp stops there; that is
+    a failure of the numerics, not of the slope, so it sets no failure_g). Levels run by ``refine_to`` (bisection, then the closing steps) are appended in the order
     they were run, so ``g`` is then no longer increasing; ``refined`` holds their number.
     """
 
@@ -58,6 +61,7 @@ class RampRecord:
     last_stable_g: float | None = None
     refined: int = 0
     seconds: float = 0.0
+    unstable: str | None = None
 
 
 def raise_gravity(model, g_levels, ratio=1e-4, max_steps=20_000, failure_displacement=None,
@@ -107,6 +111,7 @@ def raise_gravity(model, g_levels, ratio=1e-4, max_steps=20_000, failure_displac
     stable_state = _snapshot(model) if refine_to is not None else None
 
     def level(g_from, g):
+        running[:] = [g, model.step]
         _ramp(model, g_from, g, ramp_steps)
         if watch:
             res = _solve_watching(model, list(watch), ratio, max_steps, failure_displacement,
@@ -119,23 +124,28 @@ def raise_gravity(model, g_levels, ratio=1e-4, max_steps=20_000, failure_displac
         _record(rec, model, g, res, failed, progress)
         return failed
 
-    g_from_failure = 0.0
-    for g in levels:
-        failed = level(g_now, float(g))
-        g_from_failure, g_now = g_now, float(g)
-        if failed:
-            rec.failure_g = float(g)
-            if stop_at_failure:
-                break
-        elif rec.failure_g is None:
-            rec.last_stable_g = float(g)
-            if refine_to is not None:
-                stable_state = _snapshot(model)
-    if refine_to is not None and rec.failure_g is not None:
-        step_to_failure = _bisect(rec, model, level, stable_state, refine_to,
-                                  rec.failure_g - g_from_failure)
-        if step_to_failure > refine_to * (1 + 1e-9):
-            _march(rec, model, level, refine_to, float(levels[-1]))
+    running = [0.0, 0]                  # the level being run and its first step (unstable)
+    try:
+        g_from_failure = 0.0
+        for g in levels:
+            failed = level(g_now, float(g))
+            g_from_failure, g_now = g_now, float(g)
+            if failed:
+                rec.failure_g = float(g)
+                if stop_at_failure:
+                    break
+            elif rec.failure_g is None:
+                rec.last_stable_g = float(g)
+                if refine_to is not None:
+                    stable_state = _snapshot(model)
+        if refine_to is not None and rec.failure_g is not None:
+            step_to_failure = _bisect(rec, model, level, stable_state, refine_to,
+                                      rec.failure_g - g_from_failure)
+            if step_to_failure > refine_to * (1 + 1e-9):
+                _march(rec, model, level, refine_to, float(levels[-1]))
+    except ModelUnstable as error:
+        _record_unstable(rec, model, running[0], model.step - running[1], str(error),
+                         progress)
     rec.seconds = time.perf_counter() - t0
     return rec
 
@@ -199,6 +209,24 @@ def _record(rec, model, g, res, failed, progress):
     if progress:
         progress(f"g = {g:5.1f}: {rec.verdict[-1]} after {res.steps} steps, "
                  f"ratio {res.ratio:.2e}, cracks {rec.cracks[-1]}")
+
+
+def _record_unstable(rec, model, g, steps, message, progress):
+    """The level at which the model became unstable: verdict "unstable", the steps run in it,
+    no largest displacement (None: a blown-up block's is meaningless), the points as left."""
+    rec.unstable = message
+    rec.g.append(float(g))
+    rec.verdict.append("unstable")
+    rec.steps.append(int(steps))
+    rec.max_displacement.append(None)
+    for name in model.points:
+        ux, uy, _, _ = model.point_motion(name)
+        rec.point_ux.setdefault(name, []).append(ux)
+        rec.point_uy.setdefault(name, []).append(uy)
+    counts = model.crack_counts()
+    rec.cracks.append(counts["tension"] + counts["shear"])
+    if progress:
+        progress(f"g = {g:5.1f}: numerically unstable, the ramp stops: {message}")
 
 
 def _ramp(model, g_from, g_to, steps, increments=10):

@@ -122,3 +122,23 @@ def test_gravity_ramp_rejects_bad_levels():
         raise_gravity(model, [float("nan")])
     with pytest.raises(ValueError, match="history point"):
         raise_gravity(model, [1.0], watch=("nowhere",))
+
+
+def test_gravity_ramp_records_a_numerical_blow_up_and_stops_without_a_failure_g():
+    """A fixed dt far above the critical step blows the model up at its first level: the ramp
+    keeps what it has (verdict "unstable", the message) instead of losing the whole run, and a
+    blow-up is not a slope failure."""
+    bs = brick_grid(1, 2, 0.1, 0.1)
+    model = Model(bs, {"flaw:*": Material(kn=1e12, ks=1e12, breakable=False)}, density=2500.0,
+                  dt=1e-3)
+    model.fix("top")
+    model.add_history_point("tip", (0.05, 0.0))
+    rec = raise_gravity(model, [1.0, 2.0], max_steps=2000, watch=("tip",), refine_to=0.5)
+    assert rec.unstable is not None and "critical step" in rec.unstable
+    assert rec.g == [1.0] and rec.verdict == ["unstable"] and rec.steps[0] > 0
+    assert rec.failure_g is None and rec.last_stable_g is None
+    from comparisons.centrifuge import unstable_notes
+    runs = [{"label": "conventional", "g": rec.g, "unstable": rec.unstable},
+            {"label": "T=1.1", "g": [70.0], "unstable": None}]
+    notes = unstable_notes(runs)
+    assert len(notes) == 1 and notes[0].startswith("conventional: ") and " 1 g" in notes[0]
