@@ -49,8 +49,8 @@ VARIANTS = {
                   refine_to=10.0, max_steps=30_000, tensile=[4.81], conventional=True,
                   continuum=True, continuum_h=0.02, workers=2, threads=1),
     # full: 5 mm blocks (2.3 across the toe bridges), 20 g levels bisected to 2 g, three
-    # tensile strengths (the damage-model runs about 2-3 minutes each; the conventional run
-    # became unstable at 220 g or above, docs/comparisons.md)
+    # tensile strengths (each run 4-8 minutes on one core: docs/comparisons.md, "After the
+    # solver fix")
     "full": dict(edge_length=0.005, relax_iterations=50, g_levels=list(range(20, 601, 20)),
                  refine_to=2.0, max_steps=60_000, tensile=[4.81, 3.5, 2.5], conventional=True,
                  continuum=True, continuum_h=0.008, workers=2, threads=1),

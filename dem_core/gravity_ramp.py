@@ -195,17 +195,22 @@ def _restore(model, snapshot):
     model.__dict__.update(copy.deepcopy(snapshot))
 
 
-def _record(rec, model, g, res, failed, progress):
-    rec.g.append(float(g))
-    rec.verdict.append("failed" if failed else res.verdict)
-    rec.steps.append(res.steps)
-    rec.max_displacement.append(res.max_displacement)
+def _record_points_and_cracks(rec, model):
+    """Append the history points' displacements and the total crack count."""
     for name in model.points:
         ux, uy, _, _ = model.point_motion(name)
         rec.point_ux.setdefault(name, []).append(ux)
         rec.point_uy.setdefault(name, []).append(uy)
     counts = model.crack_counts()
     rec.cracks.append(counts["tension"] + counts["shear"])
+
+
+def _record(rec, model, g, res, failed, progress):
+    rec.g.append(float(g))
+    rec.verdict.append("failed" if failed else res.verdict)
+    rec.steps.append(res.steps)
+    rec.max_displacement.append(res.max_displacement)
+    _record_points_and_cracks(rec, model)
     if progress:
         progress(f"g = {g:5.1f}: {rec.verdict[-1]} after {res.steps} steps, "
                  f"ratio {res.ratio:.2e}, cracks {rec.cracks[-1]}")
@@ -219,12 +224,7 @@ def _record_unstable(rec, model, g, steps, message, progress):
     rec.verdict.append("unstable")
     rec.steps.append(int(steps))
     rec.max_displacement.append(None)
-    for name in model.points:
-        ux, uy, _, _ = model.point_motion(name)
-        rec.point_ux.setdefault(name, []).append(ux)
-        rec.point_uy.setdefault(name, []).append(uy)
-    counts = model.crack_counts()
-    rec.cracks.append(counts["tension"] + counts["shear"])
+    _record_points_and_cracks(rec, model)
     if progress:
         progress(f"g = {g:5.1f}: numerically unstable, the ramp stops: {message}")
 
