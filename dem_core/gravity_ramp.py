@@ -46,7 +46,8 @@ class RampRecord:
     failure_g : the first failed g-level (None if none failed); last_stable_g; seconds;
     unstable : None, or the ``ModelUnstable`` message when the model became numerically
     unstable (the level is recorded with verdict "unstable" and the ramp stops there; that is
-    a failure of the numerics, not of the slope, so it sets no failure_g). Levels run by ``refine_to`` (bisection, then the closing steps) are appended in the order
+    a failure of the numerics, not of the slope, so it sets no failure_g).
+    Levels run by ``refine_to`` (bisection, then the closing steps) are appended in the order
     they were run, so ``g`` is then no longer increasing; ``refined`` holds their number.
     """
 

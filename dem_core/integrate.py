@@ -21,7 +21,8 @@ mode. A plain v = 0 (the first update a full step) puts the turning point half a
 so each stop would start every fast mode with its amplitude divided by cos(omega dt/2), up to
 14 % at the safety factor 0.5; because stops come when the kinetic energy is low, i.e. with the
 fast modes near their turning points, that gain compounded into a growing block-scale rattle
-(the Longtan conventional run, docs/mechanics.md). (Checking every step would react to the step-to-step flicker of the many fast modes
+(the Longtan conventional run, docs/mechanics.md).
+(Checking every step would react to the step-to-step flicker of the many fast modes
 and freeze the model; the interval must stay well below a quarter of the slowest period.) Local damping converges a slender model's
 lowest bending mode only over many of its periods (it becomes a slow creep); kinetic damping
 stops it near the static state within a few quarter periods. Prescribed velocities are kept.
