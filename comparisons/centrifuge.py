@@ -59,8 +59,10 @@ def ramp_run(scene, params, member: dict, failure_displacement: float, creep: fl
     default ``DAMPING`` and ``KINETIC_DAMPING``) and ``refine_to`` (g: bisect the failure bracket
     to this width, ``raise_gravity``); the result is a plain dict (a sweep member's
     output) with the histories of A and B, the cracks of the materials whose names start with
-    one of ``rupture_materials``, ``unstable`` (None, or the message of a numerical blow-up:
-    ``raise_gravity`` stops there) and ``runtime_s``. The rupture is added by ``rupture``.
+    one of ``rupture_materials``, ``unstable`` (None, or the message of a numerical blow-up
+    of a slope that was not failing: ``raise_gravity`` stops there), ``blowups`` ([g, message]
+    of levels that blew up after the slope had started to fail: counted as failed) and
+    ``runtime_s``. The rupture is added by ``rupture``.
     """
     t0 = time.perf_counter()
     blocks = build_block_system(scene.geometry(params))
@@ -83,17 +85,23 @@ def ramp_run(scene, params, member: dict, failure_displacement: float, creep: fl
         "crack_xy": np.column_stack([log["x"][keep], log["y"][keep]]).tolist(),
         "crack_mode": log["mode"][keep].tolist(),
         "crack_material": [str(m) for m in np.asarray(log["material"])[keep]],
-        "unstable": rec.unstable,
+        "unstable": rec.unstable, "blowups": rec.blowups,
         "runtime_s": time.perf_counter() - t0,
     }
 
 
 def unstable_notes(runs: list) -> list:
-    """A note for each run whose model became numerically unstable (``raise_gravity`` stops
-    the ramp there and sets no failure g): the level and the solver's message."""
-    return [f"{r['label']}: the model became numerically unstable at {r['g'][-1]:g} g, so the "
-            f"ramp stopped there (no failure g from it): {r['unstable']}"
-            for r in runs if r.get("unstable")]
+    """A note for each run whose model became numerically unstable: at rest (``raise_gravity``
+    stops the ramp there and sets no failure g) or after the slope had started to fail (the
+    level counts as failed): the level and the solver's message."""
+    notes = [f"{r['label']}: the model became numerically unstable at {r['g'][-1]:g} g, so the "
+             f"ramp stopped there (no failure g from it): {r['unstable']}"
+             for r in runs if r.get("unstable")]
+    for r in runs:
+        for g, message in r.get("blowups") or []:
+            notes.append(f"{r['label']}: at {g:g} g the failing slope blew the model up after "
+                         f"the failure test had been met (the level counts as failed): {message}")
+    return notes
 
 
 def rupture(run: dict, link_distance: float, face_part, joint_dip: float,

@@ -5,7 +5,11 @@ which it does not come to equilibrium *and* is judged failed is the failure g-le
 
 - ``Model.solve`` returns "failed" (displacement still growing without slowing down at the
   step limit, or a block moved more than ``failure_displacement`` during that level), or
-- the largest block displacement during the level exceeds ``failure_displacement``.
+- the largest block displacement during the level exceeds ``failure_displacement``, or
+- the model blows up numerically (``ModelUnstable``) after the level's displacement record
+  already passed one of these tests: the loose fragments of a failing slope move fast and can
+  break the explicit scheme, but the slope failed first (``RampRecord.blowups``). A blow-up
+  before that ends the ramp with the verdict "unstable" and no failure g.
 
 A level that ends "moving" (not in equilibrium but slowing down) counts as stable; it is kept in
 the record so a reader can see how close the model came. The thesis raised gravity 1 g at a time
@@ -45,8 +49,16 @@ class RampRecord:
     the end of each level; cracks : total crack count after each level;
     failure_g : the first failed g-level (None if none failed); last_stable_g; seconds;
     unstable : None, or the ``ModelUnstable`` message when the model became numerically
-    unstable (the level is recorded with verdict "unstable" and the ramp stops there; that is
-    a failure of the numerics, not of the slope, so it sets no failure_g).
+    unstable while the slope was not failing (the level is recorded with verdict "unstable"
+    and the ramp stops there; that is a failure of the numerics, not of the slope, so it sets
+    no failure_g).
+    blowups : [g, message] of levels at which the model blew up *after* the slope had started
+    to fail: the displacement record of the level up to the blow-up already passes the
+    failure test (``failure_displacement``, or ``monitor.verdict``: still growing without
+    slowing down), so the level is recorded "failed" and the ramp goes on as after any failure
+    (bisection restarts from the last stable state). Loose fragments of a failing slope move
+    fast and can blow up the explicit scheme (docs/mechanics.md); the slope's failure came
+    first.
     Levels run by ``refine_to`` (bisection, then the closing steps) are appended in the order
     they were run, so ``g`` is then no longer increasing; ``refined`` holds their number.
     """
@@ -63,6 +75,7 @@ class RampRecord:
     refined: int = 0
     seconds: float = 0.0
     unstable: str | None = None
+    blowups: list = field(default_factory=list)
 
 
 def raise_gravity(model, g_levels, ratio=1e-4, max_steps=20_000, failure_displacement=None,
@@ -113,13 +126,23 @@ def raise_gravity(model, g_levels, ratio=1e-4, max_steps=20_000, failure_displac
 
     def level(g_from, g):
         running[:] = [g, model.step]
+        trace = ([0], [0.0])            # the solve's checks: steps, displacement (m)
         _ramp(model, g_from, g, ramp_steps)
-        if watch:
-            res = _solve_watching(model, list(watch), ratio, max_steps, failure_displacement,
-                                  creep)
-        else:
-            res = model.solve(ratio=ratio, max_steps=max_steps,
-                              failure_displacement=failure_displacement, creep=creep)
+        try:
+            if watch:
+                res = _solve_watching(model, list(watch), ratio, max_steps,
+                                      failure_displacement, creep, trace=trace)
+            else:
+                res = model.solve(ratio=ratio, max_steps=max_steps,
+                                  failure_displacement=failure_displacement, creep=creep,
+                                  trace=trace)
+        except ModelUnstable as error:
+            res = _failing_before_blow_up(trace, failure_displacement, creep)
+            if res is None:
+                raise
+            rec.blowups.append([float(g), str(error)])
+            if progress:
+                progress(f"g = {g:5.1f}: the failing slope blew the model up: {error}")
         failed = res.verdict == "failed" or (
             failure_displacement is not None and res.max_displacement > failure_displacement)
         _record(rec, model, g, res, failed, progress)
@@ -133,7 +156,8 @@ def raise_gravity(model, g_levels, ratio=1e-4, max_steps=20_000, failure_displac
             g_from_failure, g_now = g_now, float(g)
             if failed:
                 rec.failure_g = float(g)
-                if stop_at_failure:
+                # a blown-up model cannot be loaded further (bisection restarts from a copy)
+                if stop_at_failure or (rec.blowups and rec.blowups[-1][0] == g):
                     break
             elif rec.failure_g is None:
                 rec.last_stable_g = float(g)
@@ -239,17 +263,37 @@ def _ramp(model, g_from, g_to, steps, increments=10):
     model.set_gravity(g_to)
 
 
-def _solve_watching(model, names, ratio, max_steps, failure_displacement, creep, chunk=None):
+def _failing_before_blow_up(trace, failure_displacement, creep):
+    """A "failed" SolveResult if the displacement record ``trace`` (steps, m) of a level
+    that blew up already shows the slope failing, else None. Failing: beyond
+    ``failure_displacement``, or still growing without slowing down (``monitor.verdict``, the
+    test a level gets at its step limit). Judged on the checks before the blow-up only."""
+    steps, disp = trace
+    if len(steps) < 2:
+        return None
+    d = max(disp)
+    if failure_displacement is not None and d > failure_displacement:
+        return SolveResult("failed", steps[-1], float("nan"), d, "past the failure "
+                           "displacement before the model blew up")
+    v, why = verdict(steps, disp, 0.0 if creep is None else creep)
+    if v != "failed":
+        return None
+    return SolveResult("failed", steps[-1], float("nan"), d, why + " (then the model blew up)")
+
+
+def _solve_watching(model, names, ratio, max_steps, failure_displacement, creep, chunk=None,
+                    trace=None):
     """``Model.solve`` with the displacement test on history points ``names`` (see
     ``raise_gravity``): equilibrium at ``ratio``, failed when a point moved more than
     ``failure_displacement`` in this level or, at the step limit, by ``monitor.verdict`` on the
-    points' displacement."""
+    points' displacement. ``trace``: optional (steps, displacements) lists the checks are
+    appended to (read after a ``ModelUnstable``)."""
     missing = [n for n in names if n not in model.points]
     if missing:
         raise ValueError(f"no history point(s) {missing}; add them with add_history_point")
     chunk = int(chunk or max(model.history.every, 100))
     start = np.array([model.point_motion(n)[:2] for n in names])
-    steps, disp = [0], [0.0]
+    steps, disp = trace if trace is not None else ([0], [0.0])
     done, r = 0, float("inf")
     creep = 0.0 if creep is None else creep
     while done < max_steps:

@@ -447,13 +447,14 @@ class Model:
                 self._record()
 
     def solve(self, ratio=1e-5, max_steps=100_000, check_every=None, failure_displacement=None,
-              creep=None):
+              creep=None, trace=None):
         """Cycle until the unbalanced ratio <= ``ratio`` or ``max_steps``; returns a SolveResult.
 
         ``failure_displacement`` (m): stop as "failed" once a block has moved this far during
         the solve. ``creep`` (m, default 1e-3 of the median block radius): displacement
         increments below this do not count as movement in the end-of-run test
-        (``monitor.verdict``).
+        (``monitor.verdict``). ``trace``: optional (steps, displacements) lists, each starting
+        with 0, that the checks are appended to (still readable after a ``ModelUnstable``).
         """
         if not (ratio > 0):
             raise ValueError(f"ratio must be > 0, got {ratio!r}")
@@ -461,7 +462,7 @@ class Model:
         creep = 1e-3 * float(np.median(self.props.radius)) if creep is None else creep
         start = self.state.pos.copy()
         act = self.props.active > 0
-        steps, disp = [0], [0.0]
+        steps, disp = trace if trace is not None else ([0], [0.0])
         done, r = 0, math.inf
         while done < max_steps:
             k = min(check, max_steps - done)

@@ -142,3 +142,43 @@ def test_gravity_ramp_records_a_numerical_blow_up_and_stops_without_a_failure_g(
             {"label": "T=1.1", "g": [70.0], "unstable": None}]
     notes = unstable_notes(runs)
     assert len(notes) == 1 and notes[0].startswith("conventional: ") and " 1 g" in notes[0]
+
+
+def test_a_blow_up_after_the_slope_started_to_fail_counts_as_that_levels_failure(monkeypatch):
+    """A hanging block whose bond breaks falls freely (its displacement grows without slowing
+    down); if the model then blows up (forced here after a few checks of the level), the level
+    is "failed" with the message in ``blowups``, bisection goes on from the stable copy, and
+    ``unstable`` stays None. A blow-up of a model at rest stays "unstable" (the test above)."""
+    from dem_core.model import ModelUnstable
+
+    bs = brick_grid(1, 2, 0.1, 0.1)
+    # the bond holds the lower block's weight (245 N/m per g over 0.1 m: 2.45 kPa per g) to 4.08 g
+    model = Model(bs, {"flaw:*": Material(kn=1e10, ks=1e10, tensile_strength=1e4, cohesion=1e4,
+                                          friction=30.0)}, density=2500.0, kinetic_damping=100)
+    model.fix("top")
+    model.add_history_point("tip", (0.05, 0.02))
+    real_cycle = Model.cycle
+    calls = {"n": 0}
+
+    def cycle(self, n):
+        real_cycle(self, n)
+        if -self.gravity[1] > 5.5 * 9.81 and self.crack_counts()["tension"]:
+            calls["n"] += 1
+            if calls["n"] == 10:     # ten checks after the bond broke: the block is falling
+                raise ModelUnstable("forced blow-up")
+
+    monkeypatch.setattr(Model, "cycle", cycle)
+    # no failure displacement: the level is judged by its growth (monitor.verdict)
+    rec = raise_gravity(model, [2.0, 6.0], max_steps=4000, watch=("tip",), refine_to=1.0,
+                        ramp_steps=0)
+    assert rec.unstable is None
+    assert [g for g, _ in rec.blowups] == [6.0] and "forced" in rec.blowups[0][1]
+    assert rec.verdict[:2] == ["equilibrium", "failed"] and rec.steps[1] < 1000   # ended there
+    # bisection goes on from the stable 2 g: the bond (10 kPa against 2.45 kPa per g, 4.08 g
+    # static) breaks between 3 and 4 g with each level applied at once
+    assert rec.g[2:] == [4.0, 3.0, 4.0] and rec.verdict[2:] == ["failed", "equilibrium", "failed"]
+    assert rec.last_stable_g == 3.0 and rec.failure_g == 4.0
+    from comparisons.centrifuge import unstable_notes
+    notes = unstable_notes([{"label": "T=1.1", "g": rec.g, "unstable": None,
+                             "blowups": rec.blowups}])
+    assert len(notes) == 1 and "at 6 g" in notes[0] and "counts as failed" in notes[0]
