@@ -44,7 +44,7 @@ MPA = 1e6
 
 VARIANTS = {
     "quick": dict(
-        ucs_edge=0.007, shear_edge=0.007, ucs_rate=3e-7, shear_rate=3e-7,
+        ucs_edge=0.007, shear_edge=0.007, ucs_rate=2e-7, shear_rate=3e-7,
         ucs_max_strain=0.02, shear_max_disp=0.003,
         normal_stresses=[0.3, 1.2, 2.4], lajtai_normal_stresses=[0.3, 1.2, 2.4],
         persistence=[0.0, 0.5, 1.0], tensile=[0.5, 1.0], scale_edges=[],

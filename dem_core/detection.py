@@ -129,6 +129,16 @@ def _outward(wv, offsets, blk, e):
 
 
 @njit(cache=True)
+def _to_segment(wv, offsets, blk, e, x, y):
+    """Distance (m) from (x, y) to edge e of block ``blk`` as a segment."""
+    f = e + 1 if e + 1 < offsets[blk + 1] else offsets[blk]
+    ex, ey = wv[f, 0] - wv[e, 0], wv[f, 1] - wv[e, 1]
+    s = ((x - wv[e, 0]) * ex + (y - wv[e, 1]) * ey) / (ex * ex + ey * ey)
+    s = min(max(s, 0.0), 1.0)
+    return math.hypot(x - wv[e, 0] - s * ex, y - wv[e, 1] - s * ey)
+
+
+@njit(cache=True)
 def _diagonal_at_crossing(wv, offsets, B, be, f, x, y, a1x, a1y, a2x, a2y, margin):
     """True when A's vertex sits on a corner of B and A's two faces there continue B's two
     faces (each antiparallel to one of them): the blocks are diagonal neighbours where two
@@ -214,15 +224,19 @@ def _vertex_candidates(A, B, wv, offsets, lo, hi, margin, covered, slope, out, n
             near = max(near, d)
         if near == -np.inf:
             continue
-        be, bf = -1, np.inf
+        # among faces that face A's wedge equally (the collinear pieces of a side split where
+        # neighbours meet it), the piece the vertex projects onto: the first piece of a split
+        # side may lie far along it, and its segment test below would reject the contact
+        be, bf, bseg = -1, np.inf, np.inf
         for e in range(offsets[B], offsets[B + 1]):
             ox, oy = _outward(wv, offsets, B, e)
             d = (x - wv[e, 0]) * ox + (y - wv[e, 1]) * oy
             if covered[e] or d < near - tie or not _supports(wv, offsets, A, v, ox, oy, slope):
                 continue
             facing = min(ox * a1x + oy * a1y, ox * a2x + oy * a2y)
-            if facing < bf:
-                be, bf = e, facing
+            seg = _to_segment(wv, offsets, B, e, x, y)
+            if facing < bf - 1e-9 or (facing <= bf + 1e-9 and seg < bseg):
+                be, bf, bseg = e, facing, seg
         if be < 0 or (best >= 0.0 and bf >= -0.05):
             continue
         f = be + 1 if be + 1 < offsets[B + 1] else offsets[B]
