@@ -9,8 +9,8 @@ margin since the last search (``integrate.run_steps`` status 1):
    edges at the vertex do not run into it, ``_supports``), the one with the largest signed
    distance (the nearest for a vertex inside B; at a corner tie, the edge facing A's wedge;
    among the collinear pieces of a side split by neighbours' corners, which tie, the piece the
-   vertex projects onto); a candidate if that distance (or the distance to the edge's segment, near a corner) is below
-   the margin and the vertex's wedge faces the edge.
+   vertex projects onto); a candidate if that distance (or the distance to the edge's
+   segment, near a corner) is below the margin and the vertex's wedge faces the edge.
 3. Survivors keep their history: an intact bonded contact (its material has peak T or c
    above the residual, or is glued) always survives; any other survives while its gap is
    below the margin, its point still projects onto B's edge (within the margin) and its
