@@ -246,10 +246,8 @@ def _vertex_candidates(A, B, wv, offsets, lo, hi, margin, covered, slope, out, n
         s = ((x - wv[be, 0]) * ex + (y - wv[be, 1]) * ey) / ln2
         if _diagonal_at_crossing(wv, offsets, B, be, f, x, y, a1x, a1y, a2x, a2y, margin):
             continue
-        if s < 0.0 or s > 1.0:                    # near a corner: true distance to the segment
-            sc = min(max(s, 0.0), 1.0)
-            if math.hypot(x - wv[be, 0] - sc * ex, y - wv[be, 1] - sc * ey) > margin:
-                continue
+        if (s < 0.0 or s > 1.0) and bseg > margin:   # near a corner: distance to the segment
+            continue
         if n == out.shape[0]:
             return n, True
         out[n, 0], out[n, 1], out[n, 2], out[n, 3] = A, v, B, be
