@@ -4,8 +4,9 @@
 
 Part 1, unused components. One bonded Voronoi specimen (``throughput.specimen``, 50 g, a fixed
 base) is stepped with each optional part of the time step absent, present but idle, and (for
-reference) active. The kernel skips a part by a flag (``integrate.run_steps``: gravity, applied
-loads, servo, contact-search check), so an absent part and a zero part should cost the same.
+reference) active. An absent component is an empty bundle whose kernel loops over nothing
+(``dem_core/components``: gravity, applied loads, servo; the contact-search check is an infinite
+margin), so an absent part and a zero part should cost the same.
 Timings alternate between the variants (``--reps`` rounds, the minimum per variant is kept) so
 the load of the shared machine affects all alike.
 
@@ -51,17 +52,17 @@ def variants(bs):
 
     def zero_load():
         m = _model(bs)
-        m.apply_load("rock", 0.0, 0.0, 0.0)      # present but zero: the flag stays off
+        m.apply_load("rock", 0.0, 0.0, 0.0)      # present but zero: an empty bundle
         return m
 
     def active_load():
         m = _model(bs)
-        m.apply_load("rock", 0.0, -1e-12, 0.0)   # non-zero (negligible): the loads pass runs
+        m.apply_load("rock", 0.0, -1e-12, 0.0)   # non-zero (negligible): the loads kernel runs
         return m
 
     def idle_servo():
         m = _model(bs)
-        m.servo(none, 0.0)                       # a servo group with no blocks: flag on, no work
+        m.servo(none, 0.0)                       # a servo group with no blocks: one group, no work
         return m
 
     def history_points():

@@ -8,8 +8,8 @@ time per Newton iteration against dofs.
   threaded kernel of ``dem_core.parallel``, ``Model(threads=2)``); contact updates per second
   per core = updates / s / threads, and the speed-up of 2 threads over 1 at each size.
 - Profile: the parts of one step timed separately on one specimen by calling the same numba
-  kernels the step calls (``forces.add_contact_forces``, ``integrate.advance``,
-  ``integrate.update_rotation``, the zeroing of the force array, ``forces.add_gravity``).
+  kernels the step calls (``forces.add_contact_forces``, ``step.advance``,
+  ``kinematics.update_rotation``, the zeroing of the force array, ``components.add_gravity``).
 - Machine limit: memory bandwidth from numpy copies (``dst[:] = src``, 2 x 200 MB, counted as
   read + write) and a triad; the bytes streamed and the flops per contact update counted from the
   kernel source (see ``BYTES_PER_CONTACT``); the bandwidth-bound time per contact update is
@@ -61,13 +61,14 @@ def bandwidth(mb=200, reps=5):
 
 
 def profile(n_blocks, steps=200):
-    from dem_core import forces, integrate
+    from dem_core import forces, step
+    from dem_core.components import add_gravity
+    from dem_core.kinematics import update_rotation
 
     bs = throughput.specimen(n_blocks)
     m = leave_model(bs)
     p, s, c = m.props, m.state, m.contacts
     strength = m.table.strength_array()
-    half = 0.5 * m.search_margin
     parts = {}
 
     def timed(name, fn):
@@ -79,19 +80,15 @@ def profile(n_blocks, steps=200):
 
     timed("zero force array", lambda: s.force.fill(0.0))
     timed("contact forces + law (add_contact_forces)", lambda: forces.add_contact_forces(
-        c.n, c.block_a, c.block_b, c.point_a, c.point_b, c.normal_b, c.length, c.kn, c.ks,
-        c.material, strength, c.sn, c.ts, c.un, c.us, c.up, c.broken, c.slipping, s.pos,
-        m._rot, s.force, m.time, m.cracks, m.crack_count))
-    timed("gravity (add_gravity)", lambda: forces.add_gravity(p.mass, p.active, m.gravity,
-                                                              s.force))
+        c, strength, s, m.cracks, m.time))
+    grav = m._components()[0]
+    timed("gravity (add_gravity)", lambda: add_gravity(grav, s, p))
     # advance moves the blocks: keep the force small so the specimen stays put
     s.force.fill(0.0)
-    timed("damping + integration + movement check (advance)", lambda: integrate.advance(
-        s.force, s.pos, s.theta, s.vel, s.omega, p.inv_mass, p.inv_inertia, p.fixity,
-        p.velocity_bc, p.active, p.radius, s.pos_search, s.theta_search, m.damping, m.dt,
-        half))
-    timed("cos/sin of rotations (update_rotation)", lambda: integrate.update_rotation(
-        s.theta, m._rot))
+    integ = m._integrator()
+    timed("damping + integration + movement check (advance)", lambda: step.advance(
+        s, p, integ, m.dt))
+    timed("cos/sin of rotations (update_rotation)", lambda: update_rotation(s.theta, s.rot))
     m2 = leave_model(bs)
     m2.cycle(steps)
     t0 = time.perf_counter()

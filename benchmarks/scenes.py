@@ -151,7 +151,7 @@ def brick_bar_tension(cell=0.01, velocity=2e-3, ks_ratio=1.0, safety=0.5, dampin
         m.cycle(100)
         stress.append(-m.state.force[right, 0].sum() / height)
         s = np.array(stress)
-        if m.crack_count[0] and abs(s[-1]) < 0.5 * np.abs(s).max():
+        if m.cracks.count[0] and abs(s[-1]) < 0.5 * np.abs(s).max():
             break
     peak = float(np.max(stress))
     T = _sp.T

@@ -59,7 +59,7 @@ def run(n_blocks, steps, seed=0, threads=1):
         "contact_updates_per_s_per_core": round(nc * steps / seconds / threads),
         "ns_per_contact_update": round(1e9 * seconds / (nc * steps), 2),
         "seconds_per_step": seconds / steps, "geometry_seconds": round(t_geom, 2),
-        "setup_seconds": round(t_setup, 2), "cracks": int(m.crack_count[0]),
+        "setup_seconds": round(t_setup, 2), "cracks": int(m.cracks.count[0]),
         "machine": f"{platform.node()} {platform.machine()} {platform.platform()}",
         "numpy": np.__version__,
     }

@@ -1,89 +1,116 @@
-"""Point contacts (a vertex of block A against an edge of block B), as flat arrays with headroom.
+"""Point contacts (a vertex of block A against a face of block B), as flat arrays with headroom.
 
-Geometry of contact k (all "local" vectors are in the owning block's frame at theta = 0)::
+Geometry of contact k (all "local" vectors are in the owning block's frame at theta = 0;
+``kinematics``)::
 
     x_a = pos[A] + R(theta_A) point_a        the vertex of A (the contact point)
-    x_b = pos[B] + R(theta_B) point_b        a point on B's edge (coincident with x_a at creation)
-    n   = R(theta_B) normal_b                unit normal from A into B (minus B's outward normal)
+    x_b = pos[B] + R(theta_B) point_b        a point on B's face (coincident with x_a at creation)
+    n   = common_normal(normal_a, normal_b)  unit normal from A into B: B's face normal for a
+                                             vertex against a face, the bisector of both faces'
+                                             normals for two faces (both blocks agree on it)
     t   = (-n_y, n_x)
     u_n = (x_b - x_a) . n                    normal opening, m (> 0 open, < 0 overlap)
     u_s = (x_b - x_a) . t                    shear displacement of B relative to A, m
 
-Stresses (compression positive): ``sn = -kn u_n`` and ``ts = -ks (u_s - u_p)`` with ``u_p`` the
-plastic (slip) part; the force on B is ``L (sn n + ts t)`` at ``x_a``, the force on A its
-opposite. Applying both at ``x_a`` makes the forces the exact gradient of the spring energy
-0.5 L (kn u_n^2 + ks (u_s - u_p)^2), so an elastic system conserves energy and angular momentum.
+Stresses (compression positive) follow from the increments of u_n and u_s (``law.py``); the
+force on B is ``L (sn n + ts t)``, the force on A its opposite, both at the contact's anchor
+point: the vertex it belongs to (A's, or B's for the half of a shared edge that ends at B's
+corner), midway between x_a and x_b when neither is a vertex. Equal, opposite, collinear
+forces: linear and angular momentum are conserved exactly. When a contact slips or opens, the
+other point is moved to sit across the normal from the anchor (x_b = x_a + u_n n for anchor A),
+so x_b - x_a stays a normal gap: a sliding contact follows its vertex, and the increments
+never mix a large slid distance into the normal (which a turning normal would otherwise do).
+The rule depends on which block owns the corner, not on which is called A, so a scene and its
+mirror image behave alike.
 
-A shared edge p0-p1 between A and B gives two contacts, each of half the edge's length: the
-vertex of A at p0 against B's edge, and the vertex of B at p1 against A's edge.
+A shared edge p0-p1 between A and B gives two face contacts, each of half the edge's length:
+the vertex of A at p0 against B's face, and the vertex of B at p1 against A's face.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
-__all__ = ["Contacts", "INTACT", "TENSION", "SHEAR", "UNBONDED", "initial_contacts"]
+from .kinematics import common_normal
 
+__all__ = ["Contacts", "INTACT", "TENSION", "SHEAR", "UNBONDED", "ANCHOR_A", "ANCHOR_B",
+           "ANCHOR_MID", "initial_contacts"]
+
+# Contacts.anchor: the point a contact keeps when it slips or opens (``forces.contact_update``).
+ANCHOR_A, ANCHOR_B, ANCHOR_MID = 0, 1, 2
 # Contacts.broken: why the contact is at residual strength.
 INTACT, TENSION, SHEAR, UNBONDED = 0, 1, 2, 3   # UNBONDED: made by the search, never bonded
 
 
-@dataclass
-class Contacts:
-    """Contact arrays of capacity ``cap``; the first ``n`` rows are live.
+_VECTORS = ("point_a", "point_b", "normal_a", "normal_b")
+_DTYPES = {"block_a": np.int32, "block_b": np.int32, "vertex_a": np.int32,
+           "edge_b": np.int32, "material": np.int32, "broken": np.int8, "slipping": np.int8,
+           "anchor": np.int8}
 
-    Attributes
-    ----------
-    n : int. Live contacts.
-    block_a, block_b : (cap,) int32. Vertex owner A and edge owner B.
+
+class Contacts(NamedTuple):
+    """Contact arrays of capacity ``cap``; the first ``count[0]`` rows are live.
+
+    block_a, block_b : (cap,) int32. Vertex owner A and face owner B.
     vertex_a : (cap,) int32. Global vertex index of A's vertex, -1 if the point is not a vertex.
-    edge_b : (cap,) int32. Global index of the first vertex of B's edge, -1 if unknown.
-    point_a, point_b, normal_b : (cap, 2) float64. Local geometry (module docstring).
+    edge_b : (cap,) int32. Global index of the first vertex of B's face, -1 if unknown.
+    point_a, point_b : (cap, 2) float64, m. Local geometry (module docstring).
+    normal_a, normal_b : (cap, 2) float64. The A -> B direction fixed in A (a face contact;
+        (0, 0) for a vertex against a face) and fixed in B (``kinematics.common_normal``).
+    anchor : (cap,) int8. Which point the contact follows when it slips or opens: ANCHOR_A
+        (A's vertex), ANCHOR_B (the point is a vertex of B), ANCHOR_MID (neither: midway).
     length : (cap,) float64, m. Length the contact represents.
-    kn, ks : (cap,) float64, Pa/m. Effective stiffness (material in series with the blocks).
+    kn, ks : (cap,) float64, Pa/m. Stiffness (material in series with the blocks), set when the
+        contact is made.
     material : (cap,) int32. Row of the material table.
-    sn, ts : (cap,) float64, Pa. Normal (compression +) and shear stress on B.
-    un, us, up : (cap,) float64, m. Normal opening, total and plastic shear displacement.
+    sn, ts : (cap,) float64, Pa. Normal (compression +) and shear stress the contact transmits.
+    sn_elastic : (cap,) float64, Pa. Normal stress of the elastic spring, updated by increments:
+        equal to ``sn`` while the contact is closed; below the tension limit the contact is
+        separated (``sn`` = 0) and -sn_elastic / kn is how far it is open beyond the limit.
+    un, us : (cap,) float64, m. Normal opening and shear displacement along the current normal
+        at the last step (their increments drive the law).
+    up : (cap,) float64, m. Plastic (slip) shear displacement so far.
     broken : (cap,) int8. INTACT, TENSION, SHEAR or UNBONDED.
     slipping : (cap,) int8. 1 if at the Coulomb limit in the last step.
+    count : (1,) int64. Live contacts.
     """
 
-    n: int
     block_a: np.ndarray
     block_b: np.ndarray
     vertex_a: np.ndarray
     edge_b: np.ndarray
     point_a: np.ndarray
     point_b: np.ndarray
+    normal_a: np.ndarray
     normal_b: np.ndarray
+    anchor: np.ndarray
     length: np.ndarray
     kn: np.ndarray
     ks: np.ndarray
     material: np.ndarray
     sn: np.ndarray
     ts: np.ndarray
+    sn_elastic: np.ndarray
     un: np.ndarray
     us: np.ndarray
     up: np.ndarray
     broken: np.ndarray
     slipping: np.ndarray
-
-    ARRAYS = ("block_a", "block_b", "vertex_a", "edge_b", "point_a", "point_b", "normal_b",
-              "length", "kn", "ks", "material", "sn", "ts", "un", "us", "up", "broken",
-              "slipping")
-    DTYPES = {"block_a": np.int32, "block_b": np.int32, "vertex_a": np.int32,
-              "edge_b": np.int32, "material": np.int32, "broken": np.int8,
-              "slipping": np.int8}
+    count: np.ndarray
 
     @classmethod
     def empty(cls, cap: int) -> "Contacts":
         arrs = {}
-        for name in cls.ARRAYS:
-            shape = (cap, 2) if name in ("point_a", "point_b", "normal_b") else (cap,)
-            arrs[name] = np.zeros(shape, dtype=cls.DTYPES.get(name, np.float64))
-        return cls(n=0, **arrs)
+        for name in ARRAYS:
+            shape = (cap, 2) if name in _VECTORS else (cap,)
+            arrs[name] = np.zeros(shape, dtype=_DTYPES.get(name, np.float64))
+        return cls(**arrs, count=np.zeros(1, np.int64))
+
+    @property
+    def n(self) -> int:
+        return int(self.count[0])
 
     @property
     def capacity(self) -> int:
@@ -91,10 +118,17 @@ class Contacts:
 
     def with_capacity(self, cap: int) -> "Contacts":
         """A copy with room for ``cap`` contacts (the live rows are kept)."""
-        new = Contacts.empty(max(cap, self.n))
-        for name in self.ARRAYS:
-            getattr(new, name)[:self.n] = getattr(self, name)[:self.n]
-        new.n = self.n
+        return self.take(np.arange(self.n), cap)
+
+    def take(self, rows, cap: int | None = None) -> "Contacts":
+        """A Contacts holding only ``rows`` (in that order), of capacity ``cap`` (default
+        1.5 x rows + 64)."""
+        rows = np.asarray(rows, dtype=np.int64)
+        cap = int(rows.size * 1.5) + 64 if cap is None else max(int(cap), rows.size)
+        new = Contacts.empty(cap)
+        for name in ARRAYS:
+            getattr(new, name)[:rows.size] = getattr(self, name)[rows]
+        new.count[0] = rows.size
         return new
 
     def live(self, name: str) -> np.ndarray:
@@ -110,24 +144,41 @@ class Contacts:
         s[b == UNBONDED] = 4
         return s
 
-    def position(self, pos, theta) -> np.ndarray:
+    def position(self, pos, rot) -> np.ndarray:
         """(n, 2) world position of each contact point (the vertex of A), m."""
         a = self.block_a[:self.n]
-        c, s = np.cos(theta[a]), np.sin(theta[a])
+        c, s = rot[a, 0], rot[a, 1]
         p = self.point_a[:self.n]
         return pos[a] + np.column_stack([c * p[:, 0] - s * p[:, 1], s * p[:, 0] + c * p[:, 1]])
 
+    def normal(self, rot) -> np.ndarray:
+        """(n, 2) world unit normal of each contact, from A into B (``common_normal``)."""
+        a, b = self.block_a[:self.n], self.block_b[:self.n]
+        out = np.empty((self.n, 2))
+        _normals(self.n, a, b, self.normal_a, self.normal_b, rot, out)
+        return out
+
     def to_dict(self) -> dict:
-        return {f"contacts.{name}": getattr(self, name)[:self.n] for name in self.ARRAYS}
+        return {f"contacts.{name}": getattr(self, name)[:self.n] for name in ARRAYS}
 
     @classmethod
     def from_dict(cls, d: dict, headroom: float = 1.5) -> "Contacts":
         n = len(d["contacts.block_a"])
         c = cls.empty(int(n * headroom) + 64)
-        for name in cls.ARRAYS:
+        for name in ARRAYS:
             getattr(c, name)[:n] = d[f"contacts.{name}"]
-        c.n = n
+        c.count[0] = n
         return c
+
+
+ARRAYS = tuple(f for f in Contacts._fields if f != "count")
+
+
+@njit(cache=True)
+def _normals(n, block_a, block_b, normal_a, normal_b, rot, out):
+    for k in range(n):
+        out[k, 0], out[k, 1] = common_normal(rot, block_a[k], block_b[k], normal_a[k, 0],
+                                             normal_a[k, 1], normal_b[k, 0], normal_b[k, 1])
 
 
 @njit(cache=True)
@@ -135,6 +186,7 @@ def _vertex_and_edge(vertices, offsets, block_a, block_b, points, mids, normal_a
     """Index of A's vertex at ``points`` and of B's edge through ``mids`` (-1 if none)."""
     m = block_a.shape[0]
     vertex_a = np.full(m, -1, np.int32)
+    on_vertex_b = np.zeros(m, np.bool_)
     edge_b = np.full(m, -1, np.int32)
     for i in range(m):
         a, b = block_a[i], block_b[i]
@@ -143,6 +195,9 @@ def _vertex_and_edge(vertices, offsets, block_a, block_b, points, mids, normal_a
             d = np.hypot(vertices[j, 0] - points[i, 0], vertices[j, 1] - points[i, 1])
             if d <= best:
                 best, vertex_a[i] = d, j
+        for j in range(offsets[b], offsets[b + 1]):
+            if np.hypot(vertices[j, 0] - points[i, 0], vertices[j, 1] - points[i, 1]) <= tol:
+                on_vertex_b[i] = True
         for j in range(offsets[b], offsets[b + 1]):
             k = j + 1 if j + 1 < offsets[b + 1] else offsets[b]
             ex, ey = vertices[k, 0] - vertices[j, 0], vertices[k, 1] - vertices[j, 1]
@@ -153,7 +208,7 @@ def _vertex_and_edge(vertices, offsets, block_a, block_b, points, mids, normal_a
             if -(ox * normal_ab[i, 0] + oy * normal_ab[i, 1]) > 0.99 and dist <= tol:
                 edge_b[i] = j
                 break
-    return vertex_a, edge_b
+    return vertex_a, on_vertex_b, edge_b
 
 
 def initial_contacts(bs, headroom: float = 1.5) -> Contacts:
@@ -179,7 +234,7 @@ def initial_contacts(bs, headroom: float = 1.5) -> Contacts:
     nrm[0::2], nrm[1::2] = n, -n
     mids = np.repeat(mid, 2, axis=0)
     cent = np.asarray(bs.centroid, np.float64)
-    va, eb = _vertex_and_edge(np.asarray(bs.vertices, np.float64),
+    va, vb, eb = _vertex_and_edge(np.asarray(bs.vertices, np.float64),
                               np.asarray(bs.vertex_offsets, np.int64), ca, cb, pts, mids, nrm, tol)
     m = 2 * ne
     c.block_a[:m], c.block_b[:m] = ca, cb
@@ -187,9 +242,11 @@ def initial_contacts(bs, headroom: float = 1.5) -> Contacts:
     c.point_a[:m] = pts - cent[ca]
     c.point_b[:m] = pts - cent[cb]
     c.normal_b[:m] = nrm
+    c.normal_a[:m] = nrm              # face against face: both blocks unrotated at the start
+    c.anchor[:m] = np.where(va >= 0, ANCHOR_A, np.where(vb, ANCHOR_B, ANCHOR_MID))
     c.length[:m] = 0.5 * np.repeat(np.asarray(bs.edge_length, np.float64), 2)
     c.material[:m] = np.repeat(np.asarray(bs.edge_material), 2)
-    c.n = m
+    c.count[0] = m
     return c
 
 

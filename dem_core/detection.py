@@ -1,7 +1,7 @@
 """Contact search: broad phase on a cell grid, narrow phase vertex-against-edge.
 
 ``update_contacts`` is run by the driver when some block has moved more than half the search
-margin since the last search (``integrate.run_steps`` status 1):
+margin since the last search (``step.run_steps`` status 1):
 
 1. Broad phase: axis-aligned boxes grown by the margin, binned on a uniform grid; a pair is
    reported once, by the cell holding the lower-left corner of the two boxes' overlap.
@@ -30,7 +30,8 @@ import math
 import numpy as np
 from numba import njit
 
-from .contacts import INTACT, UNBONDED, Contacts
+from .contacts import ANCHOR_A, INTACT, UNBONDED, Contacts
+from .kinematics import body_point, common_normal
 
 __all__ = ["update_contacts", "compact", "block_containing", "world_vertices", "grid_pairs",
            "SUPPORT_SLOPE"]
@@ -42,13 +43,33 @@ SUPPORT_SLOPE = 0.2
 
 @njit(cache=True)
 def world_vertices(pos, rot, offsets, local):
+    """(nv, 2) world coordinates of every block vertex, m."""
     out = np.empty_like(local)
     for b in range(pos.shape[0]):
-        c, s = rot[b, 0], rot[b, 1]
         for j in range(offsets[b], offsets[b + 1]):
-            out[j, 0] = pos[b, 0] + c * local[j, 0] - s * local[j, 1]
-            out[j, 1] = pos[b, 1] + s * local[j, 0] + c * local[j, 1]
+            out[j, 0], out[j, 1] = body_point(pos, rot, b, local[j, 0], local[j, 1])
     return out
+
+
+@njit(cache=True)
+def _displacements(c, s, rows):
+    un = np.empty(rows.shape[0])
+    us = np.empty(rows.shape[0])
+    for i in range(rows.shape[0]):
+        k = rows[i]
+        a, b = c.block_a[k], c.block_b[k]
+        xa, ya = body_point(s.pos, s.rot, a, c.point_a[k, 0], c.point_a[k, 1])
+        xb, yb = body_point(s.pos, s.rot, b, c.point_b[k, 0], c.point_b[k, 1])
+        nx, ny = common_normal(s.rot, a, b, c.normal_a[k, 0], c.normal_a[k, 1],
+                               c.normal_b[k, 0], c.normal_b[k, 1])
+        un[i] = (xb - xa) * nx + (yb - ya) * ny
+        us[i] = (yb - ya) * nx - (xb - xa) * ny
+    return un, us
+
+
+def displacements(c: Contacts, s, rows):
+    """(u_n, u_s) of contacts ``rows`` at the pose ``s`` (m; ``contacts.py`` geometry)."""
+    return _displacements(c, s, np.asarray(rows, dtype=np.int64))
 
 
 @njit(cache=True)
@@ -319,19 +340,13 @@ def _accept(keys_kept, px, py, nx, ny, cand_keys, cx, cy, cnx, cny, merge):
     return acc
 
 
-def compact(c: Contacts, rows, headroom: float = 1.5) -> Contacts:
+def compact(c: Contacts, rows) -> Contacts:
     """A Contacts holding only ``rows`` (in that order), with headroom."""
-    rows = np.asarray(rows, dtype=np.int64)
-    new = Contacts.empty(int(rows.size * headroom) + 64)
-    for name in Contacts.ARRAYS:
-        getattr(new, name)[:rows.size] = getattr(c, name)[rows]
-    new.n = int(rows.size)
-    return new
+    return c.take(rows)
 
 
-def _new_rows(model, cand, wv):
-    """Local geometry, length and material of new (unbonded) contacts from candidates."""
-    p, s = model.props, model.state
+def _new_rows(p, s, cand, wv):
+    """Local geometry and length of new (unbonded) contacts from candidates."""
     off, local = p.vertex_offsets, p.local_vertices
     A, v, B, e = cand[:, 0], cand[:, 1], cand[:, 2], cand[:, 3]
     f = np.where(e + 1 < off[B + 1], e + 1, off[B])
@@ -355,22 +370,25 @@ def _new_rows(model, cand, wv):
     return point_b, normal_b, L
 
 
-def update_contacts(model, margin):
+def update_contacts(c: Contacts, s, p, table, new_material: int, margin: float):
     """Survivors (with history) then new unbonded contacts (the last ``n_new`` rows, stiffness
-    still to be set); returns (Contacts, n_new)."""
-    p, s, c = model.props, model.state, model.contacts
-    wv = world_vertices(s.pos, model._rot, p.vertex_offsets, p.local_vertices)
+    and stress still to be set); returns (Contacts, n_new).
+
+    ``c`` Contacts, ``s`` BlockState, ``p`` BlockProps, ``table`` the MaterialTable,
+    ``new_material`` the material id of a contact with a face that was free at the start,
+    ``margin`` the search distance (m).
+    """
+    wv = world_vertices(s.pos, s.rot, p.vertex_offsets, p.local_vertices)
     lo, hi = _boxes(wv, p.vertex_offsets, p.active, margin)
     cell = 2.0 * float(np.median(p.radius[p.active > 0])) + 2 * margin if p.active.any() else 1.0
     pairs = grid_pairs(lo, hi, p.active, cell)
-    cand = narrow_phase(pairs, wv, p.vertex_offsets, lo, hi, margin, covered_faces(model))
+    cand = narrow_phase(pairs, wv, p.vertex_offsets, lo, hi, margin,
+                        covered_faces(c, table, len(p.local_vertices)))
     end = _fix_ring(c.edge_b[:c.n], c.block_b[:c.n], p.vertex_offsets)
-    keep, px, py, qx, qy = _survives_kernel(
-        c.n, c.block_a, c.block_b, c.vertex_a, c.point_a, c.point_b, c.normal_b, c.edge_b, end,
-        c.broken, c.material, model.table.bonded(), p.active, s.pos, s.theta, model._rot, wv,
-        margin, p.vertex_offsets, SUPPORT_SLOPE)
+    keep, px, py, qx, qy = _survives_kernel(c, s, p, end, table.bonded(), wv, margin,
+                                            SUPPORT_SLOPE)
     kept = np.flatnonzero(keep)
-    nb = model.n_blocks
+    nb = len(p.mass)
     keys = np.minimum(c.block_a[kept], c.block_b[kept]).astype(np.int64) * nb + \
         np.maximum(c.block_a[kept], c.block_b[kept])
     order = np.argsort(keys, kind="stable")
@@ -395,7 +413,7 @@ def update_contacts(model, margin):
     if new.capacity < new.n + m:
         new = new.with_capacity(int(1.5 * (new.n + m)) + 64)
     if m:
-        point_b, normal_b, L = _new_rows(model, cand, wv)
+        point_b, normal_b, L = _new_rows(p, s, cand, wv)
         r = slice(new.n, new.n + m)
         new.block_a[r], new.block_b[r] = cand[:, 0], cand[:, 2]
         new.vertex_a[r], new.edge_b[r] = cand[:, 1], cand[:, 3]
@@ -403,16 +421,18 @@ def update_contacts(model, margin):
         new.point_b[r] = point_b
         new.normal_b[r] = normal_b
         new.length[r] = L
-        new.material[r] = _touched_material(model, cand)
+        new.normal_a[r] = 0.0                     # a vertex against a face
+        new.anchor[r] = ANCHOR_A
+        new.material[r] = _touched_material(p, table, new_material, cand)
         new.broken[r] = UNBONDED
         new.slipping[r] = 0
-        for name in ("sn", "ts", "us", "up", "un"):
+        for name in ("sn", "ts", "sn_elastic", "us", "up", "un"):
             getattr(new, name)[r] = 0.0
-        new.n += m
+        new.count[0] += m
     return new, m
 
 
-def _touched_material(model, cand):
+def _touched_material(p, table, default, cand):
     """Material of new contacts: the weakest (lowest residual friction) of the faces that meet
     at the contact, B's touched face and A's two faces at its vertex, among those that lay on
     a flaw, joint or region boundary at the start; free faces give ``new_contact_material``.
@@ -420,13 +440,11 @@ def _touched_material(model, cand):
     At a corner-to-corner touch across a joint the joint face is then the one that counts,
     not the intact rock of the flaw faces next to it.
     """
-    p, table = model.props, model.table
     off = p.vertex_offsets
     A, v, e = cand[:, 0], cand[:, 1], cand[:, 3]
     prev = np.where(v - 1 >= off[A], v - 1, off[A + 1] - 1)
     faces = np.column_stack([p.surface_material[e], p.surface_material[v],
                              p.surface_material[prev]])
-    default = table.names.index(model.new_contact_material)
     faces = np.where(faces >= 0, faces, -1)
     friction = np.where(faces >= 0, table.res_tan_friction[np.maximum(faces, 0)], np.inf)
     pick = np.argmin(friction, axis=1)
@@ -434,13 +452,12 @@ def _touched_material(model, cand):
     return np.where(chosen >= 0, chosen, default).astype(np.int32)
 
 
-def covered_faces(model) -> np.ndarray:
+def covered_faces(c: Contacts, table, n_vertices: int) -> np.ndarray:
     """(nv,) bool: the block face starting at each vertex is glued to a neighbour by an intact
     bond (an intact contact of a bonded material has that face as its edge)."""
-    c = model.contacts
-    covered = np.zeros(len(model.props.local_vertices), np.bool_)
+    covered = np.zeros(n_vertices, np.bool_)
     eb = c.edge_b[:c.n]
-    bond = (c.broken[:c.n] == INTACT) & model.table.bonded()[c.material[:c.n]] & (eb >= 0)
+    bond = (c.broken[:c.n] == INTACT) & table.bonded()[c.material[:c.n]] & (eb >= 0)
     covered[eb[bond]] = True
     return covered
 
@@ -452,36 +469,35 @@ def sort_for_locality(c: Contacts) -> Contacts:
 
 
 @njit(cache=True)
-def _survives_kernel(nc, block_a, block_b, vertex_a, point_a, point_b, normal_b, edge_b,
-                     edge_end, broken, material, bonded, active, pos, theta, rot, wv, margin,
-                     offsets, slope):
+def _survives_kernel(c, s, p, edge_end, bonded, wv, margin, slope):
+    """Which live contacts survive the search (module docstring, 3), and each one's world
+    point (px, py) and normal (qx, qy)."""
+    nc = c.count[0]
     keep = np.zeros(nc, np.bool_)
     px = np.empty(nc)
     py = np.empty(nc)
     qx = np.empty(nc)
     qy = np.empty(nc)
     for k in range(nc):
-        a, b = block_a[k], block_b[k]
-        ca, sa, cb, sb = rot[a, 0], rot[a, 1], rot[b, 0], rot[b, 1]
-        xa = pos[a, 0] + ca * point_a[k, 0] - sa * point_a[k, 1]
-        ya = pos[a, 1] + sa * point_a[k, 0] + ca * point_a[k, 1]
-        nx = cb * normal_b[k, 0] - sb * normal_b[k, 1]
-        ny = sb * normal_b[k, 0] + cb * normal_b[k, 1]
+        a, b = c.block_a[k], c.block_b[k]
+        xa, ya = body_point(s.pos, s.rot, a, c.point_a[k, 0], c.point_a[k, 1])
+        nx, ny = common_normal(s.rot, a, b, c.normal_a[k, 0], c.normal_a[k, 1],
+                               c.normal_b[k, 0], c.normal_b[k, 1])
         px[k], py[k], qx[k], qy[k] = xa, ya, nx, ny
-        if not (active[a] and active[b]):
+        if not (p.active[a] and p.active[b]):
             continue
-        if broken[k] == INTACT and bonded[material[k]]:
+        if c.broken[k] == INTACT and bonded[c.material[k]]:
             keep[k] = True
             continue
         # a point of a shared edge that is not a vertex of A (vertex_a < 0) is a contact only
         # while the two faces stay parallel (initial contacts: all blocks start at theta = 0)
-        if vertex_a[k] < 0 and abs(theta[a] - theta[b]) > 0.2:
+        va = c.vertex_a[k]
+        if va < 0 and abs(s.theta[a] - s.theta[b]) > 0.2:
             continue
-        xb = pos[b, 0] + cb * point_b[k, 0] - sb * point_b[k, 1]
-        yb = pos[b, 1] + sb * point_b[k, 0] + cb * point_b[k, 1]
+        xb, yb = body_point(s.pos, s.rot, b, c.point_b[k, 0], c.point_b[k, 1])
         if (xb - xa) * nx + (yb - ya) * ny > margin:
             continue
-        e, f = edge_b[k], edge_end[k]
+        e, f = c.edge_b[k], edge_end[k]
         if e >= 0:
             ex, ey = wv[f, 0] - wv[e, 0], wv[f, 1] - wv[e, 1]
             ln = math.hypot(ex, ey)
@@ -490,7 +506,7 @@ def _survives_kernel(nc, block_a, block_b, vertex_a, point_a, point_b, normal_b,
                 continue
         # the vertex must still be A's deepest point towards the face (``_supports``): else
         # the face is stale (A's edge now runs into it) and the search picks the right one
-        if vertex_a[k] >= 0 and not _supports(wv, offsets, a, vertex_a[k], -nx, -ny, slope):
+        if va >= 0 and not _supports(wv, p.vertex_offsets, a, va, -nx, -ny, slope):
             continue
         keep[k] = True
     return keep, px, py, qx, qy

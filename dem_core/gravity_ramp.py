@@ -28,7 +28,6 @@ when ``refine_to`` is 1.
 """
 from __future__ import annotations
 
-import copy
 import time
 from dataclasses import dataclass, field
 
@@ -122,7 +121,7 @@ def raise_gravity(model, g_levels, ratio=1e-4, max_steps=20_000, failure_displac
     rec = RampRecord()
     t0 = time.perf_counter()
     g_now = 0.0
-    stable_state = _snapshot(model) if refine_to is not None else None
+    stable_state = model.snapshot() if refine_to is not None else None
 
     def level(g_from, g):
         running[:] = [g, model.step]
@@ -162,7 +161,7 @@ def raise_gravity(model, g_levels, ratio=1e-4, max_steps=20_000, failure_displac
             elif rec.failure_g is None:
                 rec.last_stable_g = float(g)
                 if refine_to is not None:
-                    stable_state = _snapshot(model)
+                    stable_state = model.snapshot()
         if refine_to is not None and rec.failure_g is not None:
             step_to_failure = _bisect(rec, model, level, stable_state, refine_to,
                                       rec.failure_g - g_from_failure)
@@ -180,19 +179,19 @@ def _bisect(rec, model, level, stable_state, refine_to, step_to_failure):
     Returns the step (g) by which the failed level was reached (``step_to_failure``: that of
     the level the bisection starts from) and leaves the model in the failed state, or in the
     last stable state when that step was larger than ``refine_to`` (``_march`` goes on)."""
-    failed_state = _snapshot(model)
+    failed_state = model.snapshot()
     low = rec.last_stable_g or 0.0
     while rec.failure_g - low > refine_to * (1 + 1e-9):
         mid = 0.5 * (low + rec.failure_g)
-        _restore(model, stable_state)
+        model.restore(stable_state)
         rec.refined += 1
         if level(low, mid):
             rec.failure_g, step_to_failure = mid, mid - low
-            failed_state = _snapshot(model)
+            failed_state = model.snapshot()
         else:
             low = rec.last_stable_g = mid
-            stable_state = _snapshot(model)
-    _restore(model, stable_state if step_to_failure > refine_to * (1 + 1e-9) else failed_state)
+            stable_state = model.snapshot()
+    model.restore(stable_state if step_to_failure > refine_to * (1 + 1e-9) else failed_state)
     return step_to_failure
 
 
@@ -209,15 +208,6 @@ def _march(rec, model, level, step, top):
             rec.failure_g = g
             return
         low = rec.last_stable_g = g
-
-
-def _snapshot(model):
-    """An in-memory copy of everything the model's next step reads."""
-    return copy.deepcopy(model.__dict__)
-
-
-def _restore(model, snapshot):
-    model.__dict__.update(copy.deepcopy(snapshot))
 
 
 def _record_points_and_cracks(rec, model):

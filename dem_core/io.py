@@ -1,100 +1,76 @@
-"""Save a Model to one ``.npz`` file and load it back; a resumed run is bit-for-bit the same.
+"""Model files: one ``.npz`` holding the block system, the state bundles, the contacts, the
+component tables, monitoring points and histories; a resumed run is bit-for-bit the same.
 
-Everything the next step reads is stored: the block system, materials, settings, block
-properties and state, the live contacts with their history, the crack log, servo groups,
-history points and recorded histories. Arrays are stored exactly (npz), scalars and names as
-JSON in the ``meta`` entry.
+Arrays are stored exactly (npz) under ``<bundle>.<field>`` names, scalars and names as JSON in
+the ``meta`` entry. ``Model.save`` / ``Model.load`` decide what goes in; this module only writes
+and reads parts (it does not import the model).
 """
 from __future__ import annotations
 
 import json
-from dataclasses import asdict, fields
 
 import numpy as np
 
 from .blocks import BlockSystem
 from .contacts import Contacts
-from .materials import Material, material_table
 from .monitor import History
-from .state import BlockProps, BlockState
+from .state import BlockProps, BlockState, CrackLog
 
-__all__ = ["save_model", "load_model"]
+__all__ = ["save_parts", "load_parts"]
 
 _BS_ARRAYS = ("vertices", "vertex_offsets", "centroid", "area", "region_id", "edge_p0",
               "edge_p1", "edge_block_a", "edge_block_b", "edge_normal", "edge_length",
               "edge_material")
-_SETTINGS = ("unbreakable", "damping", "safety", "mass_scaling", "fixed_dt", "search_margin",
-             "search_enabled", "new_contact_material", "time", "step", "dt", "critical_dt",
-             "threads", "kinetic_damping")
+_BUNDLES = {"props": BlockProps, "state": BlockState, "cracks": CrackLog}
 
 
-def save_model(model, path) -> None:
-    """Write ``model`` to ``path`` (.npz)."""
-    bs = model.blocks
-    arrays = {f"bs.{k}": getattr(bs, k) for k in _BS_ARRAYS}
-    arrays.update({f"group.{k}": np.asarray(v) for k, v in bs.groups.items()})
-    arrays.update({f"props.{f.name}": getattr(model.props, f.name) for f in fields(BlockProps)})
-    arrays.update({f"state.{f.name}": getattr(model.state, f.name) for f in fields(BlockState)})
-    arrays.update(model.contacts.to_dict())
-    arrays["block_E"], arrays["block_nu"] = model.block_E, model.block_nu
-    arrays["cracks"], arrays["crack_count"] = model.cracks, model.crack_count
-    arrays["gravity"] = model.gravity
-    arrays["ke_last"] = model.ke_last
-    for i, (g, prm) in enumerate(model.servo_groups):
-        arrays[f"servo.{i}.blocks"], arrays[f"servo.{i}.params"] = g, prm
-    for name, (b, local, x0) in model.points.items():
-        arrays[f"point.{name}"] = np.concatenate([[b], local, x0])
-    for k, v in model.history.columns.items():
-        arrays[f"history.{k}"] = np.asarray(v)
-    meta = {
-        "region_names": bs.region_names, "material_names": bs.material_names,
-        "groups": list(bs.groups), "table_names": model.table.names,
-        "materials": {k: asdict(m) for k, m in model.materials.items()},
-        "settings": {k: getattr(model, k) for k in _SETTINGS},
-        "history_every": model.history.every, "history_columns": list(model.history.columns),
-        "n_servo": len(model.servo_groups), "points": list(model.points),
-    }
-    arrays["meta"] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
+def save_parts(path, blocks, bundles: dict, contacts: Contacts, arrays: dict, meta: dict,
+               servo_groups, points: dict, history: History) -> None:
+    """Write a model's parts to ``path`` (.npz)."""
+    out = {f"bs.{k}": getattr(blocks, k) for k in _BS_ARRAYS}
+    out.update({f"group.{k}": np.asarray(v) for k, v in blocks.groups.items()})
+    for name, bundle in bundles.items():
+        out.update({f"{name}.{f}": v for f, v in zip(bundle._fields, bundle)})
+    out.update(contacts.to_dict())
+    out.update({f"array.{k}": v for k, v in arrays.items()})
+    for i, (g, prm) in enumerate(servo_groups):
+        out[f"servo.{i}.blocks"], out[f"servo.{i}.params"] = g, prm
+    for name, (b, local, x0) in points.items():
+        out[f"point.{name}"] = np.concatenate([[b], local, x0])
+    for k, v in history.columns.items():
+        out[f"history.{k}"] = np.asarray(v)
+    meta = dict(meta, region_names=blocks.region_names, material_names=blocks.material_names,
+                groups=list(blocks.groups), arrays=list(arrays), n_servo=len(servo_groups),
+                points=list(points), history_every=history.every,
+                history_columns=list(history.columns))
+    out["meta"] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
     with open(path, "wb") as fh:
-        np.savez(fh, **arrays)
+        np.savez(fh, **out)
 
 
-def load_model(path):
-    """Read a Model written by ``save_model``."""
-    from .model import Model
-
+def load_parts(path) -> dict:
+    """The parts written by ``save_parts``: blocks, bundles, contacts, arrays, meta, servo,
+    points, history."""
     with np.load(path) as z:
         d = {k: z[k] for k in z.files}
     meta = json.loads(bytes(d["meta"]).decode())
-    bs = BlockSystem(**{k: d[f"bs.{k}"] for k in _BS_ARRAYS},
-                     region_names=meta["region_names"],
-                     groups={g: d[f"group.{g}"] for g in meta["groups"]},
-                     material_names=meta["material_names"])
-    m = Model.__new__(Model)
-    m.blocks = bs
-    m.materials = {k: Material(**v) for k, v in meta["materials"].items()}
-    m.kinetic_damping = 0                    # files written before the option existed
-    for k, v in meta["settings"].items():
-        setattr(m, k, v)
-    m.table = material_table(meta["table_names"], m.materials, m.unbreakable)
-    m.props = BlockProps(**{f.name: d[f"props.{f.name}"] for f in fields(BlockProps)})
-    m.state = BlockState(**{f.name: d[f"state.{f.name}"] for f in fields(BlockState)})
-    m.contacts = Contacts.from_dict(d)
-    m.block_E, m.block_nu = d["block_E"], d["block_nu"]
-    m.cracks, m.crack_count = d["cracks"], d["crack_count"]
-    m.gravity = d["gravity"]
-    m.ke_last = np.zeros(3)                  # files before 2026-11-21 hold two entries
-    ke = d.get("ke_last", np.zeros(0))
-    m.ke_last[:len(ke)] = ke
-    m.servo_groups = [(d[f"servo.{i}.blocks"], d[f"servo.{i}.params"])
-                      for i in range(meta["n_servo"])]
-    m.points = {}
+    if "arrays" not in meta:
+        raise ValueError(f"{path}: a model file from before 2026-11-24 (the state bundles); "
+                         "re-run the model to write it again")
+    blocks = BlockSystem(**{k: d[f"bs.{k}"] for k in _BS_ARRAYS},
+                         region_names=meta["region_names"],
+                         groups={g: d[f"group.{g}"] for g in meta["groups"]},
+                         material_names=meta["material_names"])
+    bundles = {name: cls(**{f: d[f"{name}.{f}"] for f in cls._fields})
+               for name, cls in _BUNDLES.items()}
+    points = {}
     for name in meta["points"]:
         p = d[f"point.{name}"]
-        m.points[name] = (int(p[0]), p[1:3].copy(), p[3:5].copy())
-    m.history = History(every=meta["history_every"])
-    m.history.columns = {k: list(d[f"history.{k}"]) for k in meta["history_columns"]}
-    m._rot = np.zeros((bs.n_blocks, 2))
-    from .integrate import update_rotation
-    update_rotation(m.state.theta, m._rot)
-    return m
+        points[name] = (int(p[0]), p[1:3].copy(), p[3:5].copy())
+    history = History(every=meta["history_every"])
+    history.columns = {k: list(d[f"history.{k}"]) for k in meta["history_columns"]}
+    return {"blocks": blocks, "bundles": bundles, "contacts": Contacts.from_dict(d),
+            "arrays": {k: d[f"array.{k}"] for k in meta["arrays"]}, "meta": meta,
+            "servo": [(d[f"servo.{i}.blocks"], d[f"servo.{i}.params"])
+                      for i in range(meta["n_servo"])],
+            "points": points, "history": history}

@@ -1,19 +1,28 @@
-"""The flaw/joint contact law: Coulomb slip with a tension cut-off and residual strength.
+"""The flaw/joint contact law: incremental Coulomb slip with a tension cut-off and residual
+strength (thesis eqs 3.1-3.5, CASES.md), compression positive.
 
-Thesis eqs 3.1-3.5 (CASES.md), compression positive, total-displacement form:
+Each contact keeps its stresses and updates them from the increments of its normal opening
+``du_n`` and shear displacement ``du_s`` (m) over the step::
 
-    sn = -kn u_n                                   (u_n > 0 is opening)
-    if sn < -T:  tensile failure -> sn = 0, ts = 0, T and c drop to residual
-    ts = -ks (u_s - u_p)
-    tau_max = max(0, c + sn tan(phi))
-    if |ts| > tau_max: ts = sign(ts) tau_max, u_p = u_s + ts/ks (slip); an intact contact has
-                       failed in shear: T and c drop to residual, friction stays (phi_res).
+    sn_e <- sn_e - kn du_n                    elastic normal stress (u_n > 0 is opening)
+    ts   <- ts   - ks du_s                    trial shear stress
+    if sn_e < -T:  separated: sn = ts = 0     an intact bond has failed in tension: T and c drop
+                                              to residual; sn_e keeps counting the opening, so
+                                              the contact carries load again only once closed
+    tau_max = max(0, c + sn_e tan(phi))
+    if |ts| > tau_max:  ts = sign(ts) tau_max  slip; an intact bond has failed in shear: T and c
+                                              drop to residual, friction stays (phi_res)
 
 A contact that has failed (or was never bonded) uses the residual T, c and friction. Only a
-bond (peak T or c above the residual) can fail; a joint with T = c = 0 just opens or slips. The stress
-at the step of a shear failure is the peak limit; the residual applies from the next step. A
-glued (unbreakable) material is elastic with no limit. ``strength`` rows are
-[T, c, tan phi, T_res, c_res, tan phi_res, breakable] (``MaterialTable.strength_array``).
+bond (peak T or c above the residual) can fail; a joint with T = c = 0 just opens or slips. The
+stress at the step of a shear failure is the peak limit; the residual applies from the next
+step. A glued (unbreakable) material is elastic with no limit.
+
+Because stresses are state, a contact can start with any stress (an initial stress field) and
+a change of strength or stiffness between stages moves no stress: stiffness acts on increments
+only. With constant stiffness and no initial stress, sn_e = -kn u_n as in a total law.
+``strength`` rows are [T, c, tan phi, T_res, c_res, tan phi_res, breakable]
+(``MaterialTable.strength_array``).
 """
 from __future__ import annotations
 
@@ -21,25 +30,32 @@ from numba import njit
 
 __all__ = ["coulomb_law"]
 
+# events returned by coulomb_law
+ELASTIC, TENSION_FAILURE, SHEAR_FAILURE, SLIP, OPEN = 0, 1, 2, 3, 4
+
 
 @njit(cache=True, inline="always")
-def coulomb_law(u_n, u_s, u_p, kn, ks, strength, m, broken):
-    """One contact: returns (sn, ts, u_p, event).
-
-    event: 0 elastic, 1 failed in tension now, 2 failed in shear now (slipping), 3 slipping
-    (residual), 4 open (separated, no stress).
+def coulomb_law(du_n, du_s, sn_e, ts, kn, ks, strength, m, broken):
+    """One contact over one step: returns (sn, ts, sn_e, slip, event).
 
     Parameters
     ----------
-    u_n, u_s, u_p : float, m. Opening, total and plastic shear displacement.
+    du_n, du_s : float, m. Increments of opening and shear displacement.
+    sn_e, ts : float, Pa. Elastic normal stress and shear stress at the last step.
     kn, ks : float, Pa/m.
     strength : (nm, 7) float64 table; m : the contact's material row.
     broken : int. 0 intact (peak strength), otherwise residual strength.
+
+    Returns
+    -------
+    sn, ts : transmitted stresses, Pa. sn_e : the new elastic normal stress, Pa.
+    slip : plastic shear displacement of this step, m. event : 0 elastic, 1 failed in tension
+    now, 2 failed in shear now (slipping), 3 slipping (residual), 4 open (separated).
     """
-    sn = -kn * u_n
-    ts = -ks * (u_s - u_p)
+    sn_e = sn_e - kn * du_n
+    trial = ts - ks * du_s
     if strength[m, 6] == 0.0:                     # glued: elastic, no limit
-        return sn, ts, u_p, 0
+        return sn_e, trial, sn_e, 0.0, ELASTIC
     if broken == 0:
         T, c, tanphi = strength[m, 0], strength[m, 1], strength[m, 2]
         # only a bond (strength above residual) can fail; a zero-strength joint just slips/opens
@@ -47,13 +63,12 @@ def coulomb_law(u_n, u_s, u_p, kn, ks, strength, m, broken):
     else:
         T, c, tanphi = strength[m, 3], strength[m, 4], strength[m, 5]
         bond = False
-    if sn < -T:                                    # tension cut-off (separation)
-        return 0.0, 0.0, u_s, 1 if bond else 4
-    tau_max = c + sn * tanphi
+    if sn_e < -T:                                  # tension cut-off (separation)
+        return 0.0, 0.0, sn_e, du_s - ts / ks, TENSION_FAILURE if bond else OPEN
+    tau_max = c + sn_e * tanphi
     if tau_max < 0.0:
         tau_max = 0.0
-    if abs(ts) > tau_max:
-        ts = tau_max if ts > 0.0 else -tau_max
-        u_p = u_s + ts / ks
-        return sn, ts, u_p, 2 if bond else 3
-    return sn, ts, u_p, 0
+    if abs(trial) > tau_max:
+        t = tau_max if trial > 0.0 else -tau_max
+        return sn_e, t, sn_e, (t - trial) / ks, SHEAR_FAILURE if bond else SLIP
+    return sn_e, trial, sn_e, 0.0, ELASTIC

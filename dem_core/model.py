@@ -6,22 +6,27 @@
     model.set_gravity(1.0)
     result = model.solve(ratio=1e-5, max_steps=50_000)   # result.verdict == "equilibrium"
 
-Everything the time step reads is flat arrays (``state.py``, ``contacts.py``); this class only
-resolves names (groups, materials), checks input, and calls the numba kernels in chunks of
-steps (Python runs between chunks, never inside a step). See docs/mechanics.md.
+Everything the time step reads is a few bundles of flat arrays (``state.py``, ``contacts.py``,
+``components/``); this class only resolves names (groups, materials), checks input, builds the
+component bundles the scene uses, and calls ``step.run_steps`` in chunks of steps (Python runs
+between chunks, never inside a step). See docs/architecture.md and docs/mechanics.md.
 """
 from __future__ import annotations
 
+import copy
 import math
 
 import numpy as np
 
-from . import detection, forces, integrate, monitor
+from . import detection, io, monitor, step as stepper
 from .blocks import BlockSystem
+from .components import gravity_bundle, loads_bundle, servo_bundle
 from .contacts import initial_contacts, surface_materials
 from .elastic import series_stiffness
-from .materials import material_table
-from .state import FIX_ROT, FIX_X, FIX_Y, BlockProps, BlockState
+from .materials import Material, material_table
+from .parallel import no_parallel, parallel_bundle
+from .state import (FIX_ROT, FIX_X, FIX_Y, CrackLog, Integrator, block_props, copy_bundle,
+                    state_at_rest)
 
 __all__ = ["Model", "ModelUnstable"]
 
@@ -49,7 +54,7 @@ class Model:
     damping : float
         Local non-viscous damping coefficient alpha in [0, 1) (0.8 for quasi-static runs).
     safety : float
-        Time step = safety x critical step (``integrate.frequency_bound``).
+        Time step = safety x critical step (``step.frequency_bound``).
     mass_scaling : bool
         Make blocks stiffer than the median block heavier (inertial mass only; gravity uses real
         mass) so slivers do not set the time step. For quasi-static runs only.
@@ -69,7 +74,7 @@ class Model:
     kinetic_damping : int
         Dynamic relaxation: every ``kinetic_damping`` steps (0: off) compare the kinetic energy
         with the last check and zero all free velocities when it has fallen (a kinetic-energy
-        peak, ``integrate``). For quasi-static runs of slender structures (toppling columns),
+        peak, ``step``). For quasi-static runs of slender structures (toppling columns),
         whose lowest mode local damping turns into a creep lasting many of its periods; 100
         steps suits models whose slowest period is thousands of steps.
     """
@@ -97,8 +102,8 @@ class Model:
         self.materials = dict(materials)
         self.unbreakable = unbreakable
         self.table = material_table(blocks.material_names, self.materials, unbreakable)
-        self.props = BlockProps.from_block_system(blocks, density)
-        self.state = BlockState.at_rest(blocks.centroid)
+        self.props = block_props(blocks, density)
+        self.state = state_at_rest(blocks.centroid)
         nb = blocks.n_blocks
         self.block_E = self._per_block(block_E, np.inf, "block_E", lower=0.0)
         self.block_nu = self._per_block(block_nu, 0.25, "block_nu", lower=-1.0, upper=0.5)
@@ -107,7 +112,7 @@ class Model:
             raise ValueError(f"kinetic_damping must be a step interval >= 0 (0: off), got "
                              f"{kinetic_damping!r}")
         self.kinetic_damping = int(kinetic_damping)
-        self.ke_last = np.zeros(3)     # integrate.run_steps: kinetic-damping state
+        self.kinetic = np.zeros(3)     # Integrator.kinetic: kinetic-damping memory
         self.safety = float(safety)
         self.mass_scaling = bool(mass_scaling)
         self.fixed_dt = dt
@@ -124,20 +129,17 @@ class Model:
             names.append(new_contact_material)
             self.table = material_table(names, self.materials, unbreakable)
         self.new_contact_material = new_contact_material
-        self.gravity = np.zeros(2)
+        self.gravity = np.zeros(2)             # m/s^2 (components.Gravity)
+        self.load = np.zeros((nb, 3))          # N/m, N m/m per block (components.Loads)
+        self.servo_groups = []                 # (blocks, params row) (components.Servo)
         self.time = 0.0
         self.step = 0
         self.history = monitor.History(every=int(history_every))
-        self.points = {}                       # name -> (block, local point (2,))
-        self.servo_groups = []                 # (blocks, params row)
-        self._rot = np.zeros((nb, 2))
-        integrate.update_rotation(self.state.theta, self._rot)
+        self.points = {}                       # name -> (block, local point (2,), start (2,))
         self.contacts = detection.sort_for_locality(initial_contacts(blocks))
-        self.props.surface_material = surface_materials(self.contacts, len(blocks.vertices))
-        self._set_contact_stiffness(0, self.contacts.n)
-        nbonded = self.contacts.n
-        self.cracks = np.zeros((nbonded + 16, 7))
-        self.crack_count = np.zeros(1, np.int64)
+        self.props.surface_material[:] = surface_materials(self.contacts, len(blocks.vertices))
+        self._set_contact_stiffness(np.arange(self.contacts.n))
+        self.cracks = CrackLog(np.zeros((self.contacts.n + 16, 7)), np.zeros(1, np.int64))
         self.dt = None
         self._update_timestep()
         self.search()           # touching blocks that share no edge get (unbonded) contacts
@@ -176,29 +178,26 @@ class Model:
         return self.blocks.n_blocks
 
     # ----------------------------------------------------------------- stiffness and dt
-    def _set_contact_stiffness(self, start, stop):
-        """Effective kn, ks of contacts [start, stop): material in series with the blocks."""
-        c, s = self.contacts, slice(start, stop)
-        if stop <= start:
+    def _set_contact_stiffness(self, rows):
+        """kn, ks of contacts ``rows``: their material in series with the two blocks. Set when
+        a contact is made (and when its material's stiffness changes); stresses are kept."""
+        rows = np.asarray(rows, dtype=np.int64)
+        if rows.size == 0:
             return
-        a, b, m = c.block_a[s], c.block_b[s], c.material[s]
-        pos = self.state.pos
-        xa = c.position(pos, self.state.theta)[start:stop]
-        th = self.state.theta[b]
-        nb = c.normal_b[s]
-        n = np.column_stack([np.cos(th) * nb[:, 0] - np.sin(th) * nb[:, 1],
-                             np.sin(th) * nb[:, 0] + np.cos(th) * nb[:, 1]])
-        h_a = np.abs(((xa - pos[a]) * n).sum(axis=1))
-        h_b = np.abs(((xa - pos[b]) * n).sum(axis=1))
-        c.kn[s], c.ks[s] = series_stiffness(self.table.kn[m], self.table.ks[m], h_a, h_b,
-                                            self.block_E[a], self.block_nu[a],
-                                            self.block_E[b], self.block_nu[b])
+        c, st = self.contacts, self.state
+        a, b, m = c.block_a[rows], c.block_b[rows], c.material[rows]
+        xa = c.position(st.pos, st.rot)[rows]
+        n = c.normal(st.rot)[rows]
+        h_a = np.abs(((xa - st.pos[a]) * n).sum(axis=1))
+        h_b = np.abs(((xa - st.pos[b]) * n).sum(axis=1))
+        c.kn[rows], c.ks[rows] = series_stiffness(self.table.kn[m], self.table.ks[m], h_a, h_b,
+                                                  self.block_E[a], self.block_nu[a],
+                                                  self.block_E[b], self.block_nu[b])
 
     def _update_timestep(self):
         """Automatic step (and inertial masses with mass scaling) from the current contacts."""
         p, c = self.props, self.contacts
-        w2 = integrate.frequency_bound(c.n, c.block_a, c.block_b, c.point_a, c.length, c.kn,
-                                       c.ks, self.state.pos, self._rot, p.mass, p.inertia)
+        w2 = stepper.frequency_bound(c, self.state, p)
         # a block without contacts may meet one: bound it by a contact of its own size made of
         # the new-contact material
         if self.new_contact_material is not None:
@@ -211,8 +210,8 @@ class Model:
             target = float(np.median(w2[moving]))
             scale = np.maximum(1.0, w2 / target)
             w2 = w2 / scale
-        p.inv_mass = 1.0 / (p.mass * scale)
-        p.inv_inertia = 1.0 / (p.inertia * scale)
+        p.inv_mass[:] = 1.0 / (p.mass * scale)
+        p.inv_inertia[:] = 1.0 / (p.inertia * scale)
         w2max = float(w2[moving].max()) if moving.any() else 0.0
         self.critical_dt = 2.0 / math.sqrt(w2max) if w2max > 0 else math.inf
         if self.fixed_dt is not None:
@@ -264,9 +263,9 @@ class Model:
         if not all(math.isfinite(v) for v in (fx, fy, moment)):
             raise ValueError(f"load must be finite, got {(fx, fy, moment)!r}")
         w = self.props.mass[idx] / self.props.mass[idx].sum()
-        self.props.load[idx, 0] = fx * w
-        self.props.load[idx, 1] = fy * w
-        self.props.load[idx, 2] = moment
+        self.load[idx, 0] = fx * w
+        self.load[idx, 1] = fy * w
+        self.load[idx, 2] = moment
 
     def servo(self, group, force, direction=(0.0, -1.0), gain=None, v_max=None):
         """Move a group along ``direction`` so the reaction it feels stays at ``force`` (N/m).
@@ -292,15 +291,33 @@ class Model:
     def set_material(self, name, **changes):
         """Change a material between stages, e.g. ``set_material("flaw:*", tensile_strength=0)``.
 
-        ``name`` is a key of the materials mapping (exact or pattern). Broken contacts stay
-        broken; stiffness changes apply to every contact of that material.
+        ``name`` is a key of the materials mapping (exact or pattern). A strength change touches
+        only the material table: no stress, stiffness or position moves, broken contacts stay
+        broken. A stiffness change (kn, ks) applies to the increments from now on of every
+        contact of that material (its stresses are kept) and to new contacts.
         """
         if name not in self.materials:
             raise ValueError(f"no material {name!r}; materials are {sorted(self.materials)}")
         self.materials[name] = self.materials[name].with_strength(**changes)
-        self.table = material_table(self.table.names, self.materials, self.unbreakable)
-        self._set_contact_stiffness(0, self.contacts.n)
-        self._update_timestep()
+        old = self.table
+        self.table = material_table(old.names, self.materials, self.unbreakable)
+        moved = np.flatnonzero((self.table.kn != old.kn) | (self.table.ks != old.ks))
+        if moved.size:
+            c = self.contacts
+            self._set_contact_stiffness(np.flatnonzero(np.isin(c.material[:c.n], moved)))
+            self._update_timestep()
+
+    def set_contact_stress(self, sn, ts=0.0, rows=None):
+        """Give contacts a stress (Pa, normal compression +, shear on B along t; scalars or
+        arrays over ``rows``, default every live contact): an initial stress state. The law
+        carries on from it by increments (``law.py``)."""
+        c = self.contacts
+        rows = np.arange(c.n) if rows is None else np.asarray(rows, dtype=np.int64)
+        sn = np.broadcast_to(np.asarray(sn, dtype=np.float64), rows.shape)
+        ts = np.broadcast_to(np.asarray(ts, dtype=np.float64), rows.shape)
+        if not (np.all(np.isfinite(sn)) and np.all(np.isfinite(ts))):
+            raise ValueError("contact stresses must be finite (Pa)")
+        c.sn[rows], c.sn_elastic[rows], c.ts[rows] = sn, sn, ts
 
     def remove(self, group):
         """Excavate: remove a group's blocks and every contact they have."""
@@ -313,33 +330,72 @@ class Model:
         self.state.omega[idx] = 0.0
         c = self.contacts
         keep = (p.active[c.block_a[:c.n]] > 0) & (p.active[c.block_b[:c.n]] > 0)
-        self.contacts = detection.compact(c, np.flatnonzero(keep))
+        self.contacts = c.take(np.flatnonzero(keep))
         self._update_timestep()
+
+    # ----------------------------------------------------------------- state: copies and files
+    # What changes while a model runs (everything else is fixed at construction).
+    _STATE = ("props", "state", "contacts", "cracks", "materials", "table", "gravity", "load",
+              "servo_groups", "time", "step", "dt", "critical_dt", "kinetic", "history",
+              "points", "search_enabled")
+    _SETTINGS = ("unbreakable", "damping", "safety", "mass_scaling", "fixed_dt",
+                 "search_margin", "new_contact_material", "threads", "kinetic_damping")
+
+    def snapshot(self) -> dict:
+        """A copy of everything that changes while the model runs; ``restore`` returns to it."""
+        return {k: copy.deepcopy(getattr(self, k)) for k in self._STATE}
+
+    def restore(self, snapshot: dict):
+        """Return to a ``snapshot`` (the snapshot stays usable)."""
+        for k in self._STATE:
+            setattr(self, k, copy.deepcopy(snapshot[k]))
 
     def save(self, path):
         """Write the whole model to ``path`` (.npz); ``Model.load`` resumes it bit-for-bit."""
-        from .io import save_model
-        save_model(self, path)
+        bundles = {"props": self.props, "state": self.state, "cracks": self.cracks}
+        arrays = {"block_E": self.block_E, "block_nu": self.block_nu, "gravity": self.gravity,
+                  "load": self.load, "kinetic": self.kinetic}
+        meta = {"settings": {k: getattr(self, k) for k in self._SETTINGS},
+                "clock": {k: getattr(self, k) for k in ("time", "step", "dt", "critical_dt",
+                                                         "search_enabled")},
+                "materials": {k: vars(m) for k, m in self.materials.items()},
+                "table_names": self.table.names}
+        io.save_parts(path, self.blocks, bundles, self.contacts, arrays, meta,
+                      self.servo_groups, self.points, self.history)
 
-    @staticmethod
-    def load(path) -> "Model":
-        from .io import load_model
-        return load_model(path)
+    @classmethod
+    def load(cls, path) -> "Model":
+        """A Model read from a file written by ``save``."""
+        parts = io.load_parts(path)
+        m = cls.__new__(cls)
+        meta = parts["meta"]
+        m.blocks = parts["blocks"]
+        for k, v in {**meta["settings"], **meta["clock"]}.items():
+            setattr(m, k, v)
+        m.materials = {k: Material(**v) for k, v in meta["materials"].items()}
+        m.table = material_table(meta["table_names"], m.materials, m.unbreakable)
+        m.props, m.state, m.cracks = (parts["bundles"][k] for k in ("props", "state", "cracks"))
+        m.contacts = parts["contacts"]
+        a = parts["arrays"]
+        m.block_E, m.block_nu, m.gravity, m.load, m.kinetic = (
+            a[k] for k in ("block_E", "block_nu", "gravity", "load", "kinetic"))
+        m.servo_groups, m.points, m.history = (parts[k] for k in ("servo", "points", "history"))
+        return m
 
     # ----------------------------------------------------------------- monitors
     def add_history_point(self, name, xy):
         """Record displacement and velocity of the body point at ``xy`` (m) as ``name``."""
         xy = np.asarray(xy, dtype=np.float64)
-        b = detection.block_containing(self.props, self.state.pos, self._rot, xy)
+        b = detection.block_containing(self.props, self.state.pos, self.state.rot, xy)
         local = xy - self.state.pos[b]
-        c, s = self._rot[b]
+        c, s = self.state.rot[b]
         self.points[name] = (b, np.array([c * local[0] + s * local[1],
                                           -s * local[0] + c * local[1]]), xy.copy())
 
     def point_motion(self, name):
         """(ux, uy, vx, vy) of a history point now, m and m/s."""
         b, r, x0 = self.points[name]
-        c, s = self._rot[b]
+        c, s = self.state.rot[b]
         x = self.state.pos[b] + np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
         w = self.state.omega[b]
         v = self.state.vel[b] + w * np.array([-(x[1] - self.state.pos[b, 1]),
@@ -348,7 +404,7 @@ class Model:
 
     def unbalanced_ratio(self) -> float:
         p, c = self.props, self.contacts
-        return monitor.unbalanced_ratio(self.state.force, p.mass, self.gravity, p.load,
+        return monitor.unbalanced_ratio(self.state.force, p.mass, self.gravity, self.load,
                                         p.fixity, p.active, c.n, c.block_a, c.block_b,
                                         c.length, c.sn, c.ts)
 
@@ -373,15 +429,15 @@ class Model:
 
     def crack_log(self) -> dict:
         """Every failure so far: time (s), x, y (m), mode (1 tension, 2 shear), blocks, material."""
-        n = min(int(self.crack_count[0]), self.cracks.shape[0])
-        r = self.cracks[:n]
+        n = min(int(self.cracks.count[0]), self.cracks.rows.shape[0])
+        r = self.cracks.rows[:n]
         return {"time": r[:, 0].copy(), "x": r[:, 1].copy(), "y": r[:, 2].copy(),
                 "mode": r[:, 3].astype(np.int8), "block_a": r[:, 4].astype(np.int64),
                 "block_b": r[:, 5].astype(np.int64),
                 "material": [self.table.names[int(m)] for m in r[:, 6]]}
 
     def crack_counts(self) -> dict:
-        mode = self.cracks[:int(self.crack_count[0]), 3]
+        mode = self.cracks.rows[:int(self.cracks.count[0]), 3]
         return {"tension": int((mode == 1).sum()), "shear": int((mode == 2).sum())}
 
     def _record(self):
@@ -394,42 +450,31 @@ class Model:
         self.history.record(row)
 
     # ----------------------------------------------------------------- running
-    def _servo_arrays(self):
-        if not self.servo_groups:
-            return forces.no_servo()
-        offs = np.concatenate([[0], np.cumsum([len(g) for g, _ in self.servo_groups])])
-        blocks = np.concatenate([g for g, _ in self.servo_groups]).astype(np.int64)
-        return offs.astype(np.int64), blocks, np.array([p for _, p in self.servo_groups])
+    def _components(self):
+        """The force component bundles of the step, empty where the scene has none."""
+        return (gravity_bundle(self.gravity), loads_bundle(self.load),
+                servo_bundle(self.servo_groups))
 
-    def _parallel_arrays(self):
+    def _parallel(self):
         """Scratch and the block -> contact table for the threaded kernel (empty: serial)."""
         if self.threads <= 1:
-            return ()
+            return no_parallel()
         import numba
-
-        from .parallel import contact_table
         numba.set_num_threads(self.threads)
-        c = self.contacts
-        offsets, entries = contact_table(c.n, c.block_a, c.block_b, self.n_blocks)
-        return np.empty((c.n, 4)), np.empty(c.n, np.int64), offsets, entries
+        return parallel_bundle(self.contacts, self.n_blocks)
+
+    def _integrator(self):
+        half = 0.5 * self.search_margin if self.search_enabled else math.inf
+        return Integrator(float(self.dt), self.damping, half, self.kinetic_damping, self.kinetic)
 
     def _run(self, n):
-        p, s, c = self.props, self.state, self.contacts
-        so, sb, sp = self._servo_arrays()
-        flags = np.array([np.any(self.gravity != 0), np.any(p.load != 0), len(sp) > 0,
-                          self.search_enabled, self.kinetic_damping], dtype=np.int64)
-        steps, self.time, status, bad = integrate.run_steps(
-            n, self.time, self.dt, self.damping, 0.5 * self.search_margin, self.gravity, flags,
-            s.pos, s.theta, s.vel, s.omega, s.force, self._rot, s.pos_search, s.theta_search,
-            p.mass, p.inv_mass, p.inv_inertia, p.radius, p.fixity, p.velocity_bc, p.load,
-            p.active, c.n, c.block_a, c.block_b, c.point_a, c.point_b, c.normal_b, c.length,
-            c.kn, c.ks, c.material, c.sn, c.ts, c.un, c.us, c.up, c.broken, c.slipping,
-            self.table.strength_array(), self.cracks, self.crack_count, so, sb, sp,
-            self.ke_last, *self._parallel_arrays())
+        steps, self.time, status, bad = stepper.run_steps(
+            n, self.time, self._integrator(), self.state, self.props, self.contacts,
+            self.table.strength_array(), self.cracks, self._parallel(), *self._components())
         self.step += steps
-        if status == integrate.UNSTABLE:
+        if status == stepper.UNSTABLE:
             raise ModelUnstable(self._diagnose(bad))
-        if status == integrate.NEED_SEARCH:
+        if status == stepper.NEED_SEARCH:
             self.search()
         return steps
 
@@ -482,12 +527,23 @@ class Model:
         return monitor.SolveResult(v, done, r, max(disp), why)
 
     def search(self):
-        """Contact search now: keep surviving contacts (with history), add new ones."""
+        """Contact search now: keep surviving contacts (with history), add new ones.
+
+        A new contact starts stress-free at touching: its elastic normal stress is -kn times
+        its opening when found (a contact found open carries nothing until it closes)."""
         old_n = self.contacts.n
-        self.contacts, n_new = detection.update_contacts(self, self.search_margin)
+        new_id = (self.table.names.index(self.new_contact_material)
+                  if self.new_contact_material is not None else -1)
+        self.contacts, n_new = detection.update_contacts(self.contacts, self.state, self.props,
+                                                         self.table, new_id,
+                                                         self.search_margin)
         if n_new:
-            self._set_contact_stiffness(self.contacts.n - n_new, self.contacts.n)
-            self.contacts = detection.sort_for_locality(self.contacts)
+            c = self.contacts
+            rows = np.arange(c.n - n_new, c.n)
+            self._set_contact_stiffness(rows)
+            c.un[rows], c.us[rows] = detection.displacements(c, self.state, rows)
+            c.sn_elastic[rows] = -c.kn[rows] * c.un[rows]
+            self.contacts = detection.sort_for_locality(c)
         self.state.pos_search[:] = self.state.pos
         self.state.theta_search[:] = self.state.theta
         if n_new or self.contacts.n != old_n:

@@ -3,7 +3,8 @@
 The serial kernel (``forces.add_contact_forces``) adds each contact's force to its two blocks as
 it goes: in a parallel loop that is a write race. Here the work is split in three passes:
 
-1. every contact (in parallel): geometry, the law, its force and point, stored per contact;
+1. every contact (in parallel, by chunks of ``CHUNK``): geometry, the law, its force and point,
+   stored per contact;
 2. the crack log (serially, in contact order, so the log is the same as the serial one);
 3. every block (in parallel): the sum of its contacts' forces in contact order, read through a
    block -> contact table (CSR) built when the contact list changes.
@@ -13,12 +14,41 @@ identical (tests/test_mech_parallel.py). Used when ``Model(threads=n)`` with n >
 """
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 from numba import njit, prange
 
 from .forces import contact_update, log_crack
 
-__all__ = ["contact_table", "add_contact_forces_parallel"]
+__all__ = ["Parallel", "contact_table", "add_contact_forces_parallel", "no_parallel",
+           "parallel_bundle"]
+
+
+class Parallel(NamedTuple):
+    """Scratch and the block -> contact table of the threaded kernel; all empty: serial.
+
+    work : (nc, 4) float64. Per contact: force on B (N/m) and contact point (m).
+    events : (nc,) int64. Per contact: the law's event.
+    offsets : (nb + 1,) int64, entries : (2 nc,) int64. ``contact_table``.
+    """
+
+    work: np.ndarray
+    events: np.ndarray
+    offsets: np.ndarray
+    entries: np.ndarray
+
+
+def no_parallel() -> Parallel:
+    """The empty bundle: the step runs the serial kernel."""
+    return Parallel(np.zeros((0, 4)), np.zeros(0, np.int64), np.zeros(0, np.int64),
+                    np.zeros(0, np.int64))
+
+
+def parallel_bundle(c, nb) -> Parallel:
+    """Scratch and table for the live contacts of ``c`` among ``nb`` blocks."""
+    offsets, entries = contact_table(c.count[0], c.block_a, c.block_b, nb)
+    return Parallel(np.empty((c.n, 4)), np.empty(c.n, np.int64), offsets, entries)
 
 
 @njit(cache=True)
@@ -42,31 +72,45 @@ def contact_table(nc, block_a, block_b, nb):
     return count, entries
 
 
+# parallel=True without a prange, as forces.add_contact_forces (numba's parallel pipeline
+# compiles the loop much faster than the plain one), and the same inlined contact_update in
+# the same kind of loop: the same machine arithmetic as the serial kernel. (Inlining
+# contact_update straight into the prange body instead gave different round-off in numba 0.68:
+# a shear displacement of 0 where the serial kernel had -3.5e-18 m.)
 @njit(cache=True, parallel=True)
-def add_contact_forces_parallel(nc, block_a, block_b, point_a, point_b, normal_b, length, kn,
-                                ks, material, strength, sn, ts, un, us, up, broken, slipping,
-                                pos, rot, f, time, cracks, crack_count, work, events,
-                                table_offsets, table_entries):
-    """Same inputs and effect as ``forces.add_contact_forces``; ``work`` (>= nc, 4) and
-    ``events`` (>= nc,) are scratch, ``table_*`` from ``contact_table``."""
-    for k in prange(nc):
-        fx, fy, xa, ya, event = contact_update(k, block_a, block_b, point_a, point_b, normal_b,
-                                               length, kn, ks, material, strength, sn, ts, un,
-                                               us, up, broken, slipping, pos, rot)
+def contact_range(c, strength, s, work, events, k0, k1):
+    """Contacts k0 <= k < k1 (``forces.contact_update``): force on B, point and event stored
+    per contact in ``work`` and ``events``."""
+    for k in range(k0, k1):
+        fx, fy, xa, ya, event = contact_update(k, c, strength, s)
         events[k] = event
         work[k, 0] = fx
         work[k, 1] = fy
         work[k, 2] = xa
         work[k, 3] = ya
+
+
+# contacts per chunk of the first pass (a chunk is one call, and a thread's unit of work)
+CHUNK = 256
+
+
+@njit(cache=True, parallel=True)
+def add_contact_forces_parallel(c, strength, s, cracks, time, par):
+    """Same inputs and effect as ``forces.add_contact_forces``, with the ``Parallel`` bundle."""
+    work, events = par.work, par.events
+    nc = c.count[0]
+    for j in prange((nc + CHUNK - 1) // CHUNK):
+        contact_range(c, strength, s, work, events, j * CHUNK, min(nc, (j + 1) * CHUNK))
     for k in range(nc):                      # the crack log, in contact order
         event = events[k]
         if event == 1 or event == 2:
-            log_crack(cracks, crack_count, time, work[k, 2], work[k, 3], event, block_a[k],
-                      block_b[k], material[k])
-    nb = table_offsets.shape[0] - 1
+            log_crack(cracks, time, work[k, 2], work[k, 3], event, c.block_a[k],
+                      c.block_b[k], c.material[k])
+    f, pos = s.force, s.pos
+    nb = par.offsets.shape[0] - 1
     for i in prange(nb):
-        for j in range(table_offsets[i], table_offsets[i + 1]):
-            e = table_entries[j]
+        for j in range(par.offsets[i], par.offsets[i + 1]):
+            e = par.entries[j]
             k = e >> 1
             fx, fy, xa, ya = work[k, 0], work[k, 1], work[k, 2], work[k, 3]
             if e & 1:

@@ -1,17 +1,28 @@
-"""Block properties (constant within a stage) and block state (changes every step).
+"""The state bundles: what the time step reads and writes, as named tuples of flat arrays.
 
-Blocks are rigid convex polygons. A block's pose is its centroid ``pos`` and rotation ``theta``
-(counter-clockwise, rad); a body point with local coordinates ``r`` (relative to the centroid at
-theta = 0) is at ``pos + R(theta) r``. Masses are per unit thickness (plane strain): kg/m, and
-moments of inertia kg m^2/m.
+Numba takes a bundle whole (a ``typing.NamedTuple`` of arrays), so a kernel's signature names a
+few bundles instead of dozens of arrays. Arrays are updated in place; a bundle is never
+rebuilt during a step. ``nb`` blocks, ``nv`` vertices. Units SI per unit thickness (plane
+strain): masses kg/m, moments of inertia kg m^2/m, forces N/m, moments N m/m. Angles CCW, rad.
+
+- ``BlockState``: what changes every step (pose, velocities, forces).
+- ``BlockProps``: what is constant within a stage (masses, fixity, geometry).
+- ``contacts.Contacts``: the contact arrays with their stresses (``contacts.py``).
+- ``CrackLog``: every bond failure so far.
+- ``Integrator``: time step, damping and the kinetic-damping memory.
+- one bundle per optional force component (``components/``), empty when the scene has none.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+import copy
+from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["BlockProps", "BlockState", "FIX_X", "FIX_Y", "FIX_ROT", "polygon_inertia"]
+from .kinematics import update_rotation
+
+__all__ = ["BlockProps", "BlockState", "CrackLog", "Integrator", "FIX_X", "FIX_Y", "FIX_ROT",
+           "polygon_inertia", "block_props", "state_at_rest", "copy_bundle"]
 
 # Bits of BlockProps.fixity: a set bit means that velocity component is prescribed.
 FIX_X, FIX_Y, FIX_ROT = 1, 2, 4
@@ -25,26 +36,21 @@ def polygon_inertia(local_vertices: np.ndarray) -> float:
     return float((cross * (x * x + x * xn + xn * xn + y * y + y * yn + yn * yn)).sum() / 12.0)
 
 
-@dataclass
-class BlockProps:
-    """What does not change during a stage (nb blocks, nv vertices).
+class BlockProps(NamedTuple):
+    """What does not change during a stage.
 
-    Attributes
-    ----------
     vertex_offsets : (nb + 1,) int64. CSR into ``local_vertices``.
     local_vertices : (nv, 2) float64, m. CCW, relative to the centroid at theta = 0.
     mass, inertia : (nb,) float64. Real mass kg/m and polar moment kg m^2/m (gravity uses these).
     inv_mass, inv_inertia : (nb,) float64. Inverse *inertial* mass and moment (mass scaling
-        may make these smaller than 1/mass; a prescribed block's values are unused).
+        may make these smaller than 1/mass; a prescribed component's values are unused).
     radius : (nb,) float64, m. Largest centroid-vertex distance.
     fixity : (nb,) int8. Bits FIX_X, FIX_Y, FIX_ROT: that velocity component is prescribed.
     velocity_bc : (nb, 3) float64. Prescribed (vx, vy, omega) in m/s, rad/s.
-    load : (nb, 3) float64. Applied constant force (N/m) and moment (N m/m).
     active : (nb,) int8. 0 once a block has been removed (excavated).
     surface_material : (nv,) int32. Material id of the block face that starts at each vertex
         (the flaw, joint or region boundary it lies on), -1 for a free face. A contact found by
-        the search takes the material of the face it touches, so a corner pressed against a
-        joint face gets the joint's friction, not the intact rock's.
+        the search takes the material of the face it touches.
     """
 
     vertex_offsets: np.ndarray
@@ -56,46 +62,16 @@ class BlockProps:
     radius: np.ndarray
     fixity: np.ndarray
     velocity_bc: np.ndarray
-    load: np.ndarray
     active: np.ndarray
-    surface_material: np.ndarray = None
-
-    @classmethod
-    def from_block_system(cls, bs, density) -> "BlockProps":
-        """Masses from ``density`` (kg/m^3, scalar or (nb,)) and the polygons of ``bs``."""
-        nb = bs.n_blocks
-        rho = np.broadcast_to(np.asarray(density, dtype=np.float64), (nb,))
-        if not np.all(np.isfinite(rho)) or np.any(rho <= 0):
-            bad = int(np.flatnonzero(~(np.isfinite(rho) & (rho > 0)))[0])
-            raise ValueError(f"density must be finite and > 0 kg/m^3; block {bad} has {rho[bad]!r}")
-        off = np.asarray(bs.vertex_offsets, dtype=np.int64)
-        local = np.empty_like(bs.vertices, dtype=np.float64)
-        inertia_area = np.empty(nb)
-        radius = np.empty(nb)
-        for b in range(nb):
-            v = bs.vertices[off[b]:off[b + 1]] - bs.centroid[b]
-            local[off[b]:off[b + 1]] = v
-            inertia_area[b] = polygon_inertia(v)
-            radius[b] = np.sqrt((v * v).sum(axis=1).max())
-        if np.any(bs.area <= 0) or not np.all(np.isfinite(local)):
-            bad = int(np.flatnonzero(bs.area <= 0)[0]) if np.any(bs.area <= 0) else -1
-            raise ValueError(f"block {bad} has non-positive area or non-finite vertices")
-        mass = rho * bs.area
-        inertia = rho * inertia_area
-        return cls(vertex_offsets=off, local_vertices=local, mass=mass, inertia=inertia,
-                   inv_mass=1.0 / mass, inv_inertia=1.0 / inertia, radius=radius,
-                   fixity=np.zeros(nb, np.int8), velocity_bc=np.zeros((nb, 3)),
-                   load=np.zeros((nb, 3)), active=np.ones(nb, np.int8))
+    surface_material: np.ndarray
 
 
-@dataclass
-class BlockState:
+class BlockState(NamedTuple):
     """What changes every step.
 
-    Attributes
-    ----------
     pos : (nb, 2) float64, m. Centroid.
     theta : (nb,) float64, rad. CCW rotation from the initial orientation.
+    rot : (nb, 2) float64. (cos theta, sin theta), kept with theta (``kinematics``).
     vel : (nb, 2) float64, m/s. Centroid velocity at the last half step (leapfrog).
     omega : (nb,) float64, rad/s. Angular velocity at the last half step.
     force : (nb, 3) float64. Unbalanced force (N/m) and moment (N m/m) of the last step,
@@ -106,6 +82,7 @@ class BlockState:
 
     pos: np.ndarray
     theta: np.ndarray
+    rot: np.ndarray
     vel: np.ndarray
     omega: np.ndarray
     force: np.ndarray
@@ -114,10 +91,77 @@ class BlockState:
     pos_search: np.ndarray
     theta_search: np.ndarray
 
-    @classmethod
-    def at_rest(cls, centroid) -> "BlockState":
-        c = np.array(centroid, dtype=np.float64)
-        nb = c.shape[0]
-        return cls(pos=c.copy(), theta=np.zeros(nb), vel=np.zeros((nb, 2)), omega=np.zeros(nb),
-                   force=np.zeros((nb, 3)), pos0=c.copy(), theta0=np.zeros(nb),
-                   pos_search=c.copy(), theta_search=np.zeros(nb))
+
+class CrackLog(NamedTuple):
+    """Bond failures in the order they happened.
+
+    rows : (cap, 7) float64. [time s, x m, y m, mode (1 tension, 2 shear), block_a, block_b,
+        material id]; rows past ``cap`` are counted but not kept.
+    count : (1,) int64. Failures so far.
+    """
+
+    rows: np.ndarray
+    count: np.ndarray
+
+
+class Integrator(NamedTuple):
+    """Settings of the explicit scheme and the kinetic-damping memory.
+
+    dt : float, s. Time step. damping : float. Local damping coefficient alpha in [0, 1).
+    half_margin : float, m. A block that moved this far since the last search stops the run
+        for a new search (inf: never).
+    kinetic_interval : int. Steps between kinetic-energy checks (0: kinetic damping off).
+    kinetic : (3,) float64. Kinetic energy at the last check (J/m, inertial masses), steps
+        since it, and 1 when the motion was just stopped (the next velocity update is half a
+        step).
+    """
+
+    dt: float
+    damping: float
+    half_margin: float
+    kinetic_interval: int
+    kinetic: np.ndarray
+
+
+def block_props(bs, density) -> BlockProps:
+    """Masses from ``density`` (kg/m^3, scalar or (nb,)) and the polygons of a BlockSystem."""
+    nb = bs.n_blocks
+    rho = np.broadcast_to(np.asarray(density, dtype=np.float64), (nb,))
+    if not np.all(np.isfinite(rho)) or np.any(rho <= 0):
+        bad = int(np.flatnonzero(~(np.isfinite(rho) & (rho > 0)))[0])
+        raise ValueError(f"density must be finite and > 0 kg/m^3; block {bad} has {rho[bad]!r}")
+    off = np.asarray(bs.vertex_offsets, dtype=np.int64)
+    local = np.empty_like(bs.vertices, dtype=np.float64)
+    inertia_area = np.empty(nb)
+    radius = np.empty(nb)
+    for b in range(nb):
+        v = bs.vertices[off[b]:off[b + 1]] - bs.centroid[b]
+        local[off[b]:off[b + 1]] = v
+        inertia_area[b] = polygon_inertia(v)
+        radius[b] = np.sqrt((v * v).sum(axis=1).max())
+    if np.any(bs.area <= 0) or not np.all(np.isfinite(local)):
+        bad = int(np.flatnonzero(bs.area <= 0)[0]) if np.any(bs.area <= 0) else -1
+        raise ValueError(f"block {bad} has non-positive area or non-finite vertices")
+    mass = rho * bs.area
+    inertia = rho * inertia_area
+    return BlockProps(vertex_offsets=off, local_vertices=local, mass=mass, inertia=inertia,
+                      inv_mass=1.0 / mass, inv_inertia=1.0 / inertia, radius=radius,
+                      fixity=np.zeros(nb, np.int8), velocity_bc=np.zeros((nb, 3)),
+                      active=np.ones(nb, np.int8),
+                      surface_material=np.full(len(local), -1, np.int32))
+
+
+def state_at_rest(centroid) -> BlockState:
+    """Blocks at their centroids, unrotated and still."""
+    c = np.array(centroid, dtype=np.float64)
+    nb = c.shape[0]
+    rot = np.zeros((nb, 2))
+    update_rotation(np.zeros(nb), rot)
+    return BlockState(pos=c.copy(), theta=np.zeros(nb), rot=rot, vel=np.zeros((nb, 2)),
+                      omega=np.zeros(nb), force=np.zeros((nb, 3)), pos0=c.copy(),
+                      theta0=np.zeros(nb), pos_search=c.copy(), theta_search=np.zeros(nb))
+
+
+def copy_bundle(bundle):
+    """A deep copy of a bundle (every array copied)."""
+    return type(bundle)(*[copy.deepcopy(v) for v in bundle])

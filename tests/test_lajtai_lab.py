@@ -112,7 +112,7 @@ def test_compression_modulus_of_a_strong_specimen_is_near_the_lattice():
     # Voronoi assemblies measure 0.96-1.0 x the lattice (docs/mechanics.md); platens add a
     # compliant layer at each end
     assert E2 == pytest.approx(pred, rel=0.2)
-    assert m.crack_count[0] == 0
+    assert m.cracks.count[0] == 0
 
 
 def test_calibrate_stiffness_corrects_a_biased_assembly():

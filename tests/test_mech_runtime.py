@@ -83,7 +83,7 @@ def test_save_and_resume_is_bit_for_bit(tmp_path):
     b = Model.load(path)
     a.cycle(1500)
     b.cycle(1500)
-    assert a.crack_count[0] > 0                  # it did break, so the log is exercised
+    assert a.cracks.count[0] > 0                  # it did break, so the log is exercised
     for name in ("pos", "theta", "vel", "omega", "force"):
         assert np.array_equal(getattr(a.state, name), getattr(b.state, name)), name
     n = a.contacts.n
@@ -119,7 +119,7 @@ def test_strength_change_between_stages_makes_a_hanging_block_fall():
     m.fix("top")
     m.set_gravity(1.0)                  # needs sn = -m g / L = -9.8 kPa > -20 kPa: holds
     r = m.solve(ratio=1e-5, max_steps=20_000)
-    assert r.verdict == "equilibrium" and m.crack_count[0] == 0
+    assert r.verdict == "equilibrium" and m.cracks.count[0] == 0
     m.set_material("flaw:*", tensile_strength=5e3)
     r = m.solve(ratio=1e-5, max_steps=6000, failure_displacement=0.2)
     assert r.verdict == "failed"

@@ -56,7 +56,7 @@ def pull(bs, length, height, ks_ratio, velocity, max_chunks=400, stop_at=None):
         stress.append(-m.state.force[right, 0].sum() / height)
         strain.append((m.state.pos[right[0], 0] - m.state.pos0[right[0], 0]) / length)
         s = np.array(stress)
-        if m.crack_count[0] and abs(s[-1]) < 0.5 * np.abs(s).max():
+        if m.cracks.count[0] and abs(s[-1]) < 0.5 * np.abs(s).max():
             break
         if stop_at is not None and abs(s[-1]) > stop_at:
             break
@@ -89,7 +89,7 @@ def test_voronoi_bar_breaks_near_flaw_tensile_strength(bar):
 def measured_modulus(bs, length, height, ks_ratio):
     """E_2d from the linear part of a compression test (before any damage), Pa."""
     m, strain, stress = pull(bs, length, height, ks_ratio, -2e-3, stop_at=1.5 * T)
-    assert m.crack_count[0] == 0
+    assert m.cracks.count[0] == 0
     s, e = -stress, -strain
     lo, mid = np.searchsorted(s, 0.2 * s[-1]), np.searchsorted(s, 0.6 * s[-1])
     E1 = np.polyfit(e[lo:mid], s[lo:mid], 1)[0]

@@ -1,0 +1,198 @@
+"""The explicit time step: central differences (leapfrog) with local non-viscous damping.
+
+One step (``run_steps`` loops it inside numba, no Python in between)::
+
+    f  = 0
+    f += contact forces                      forces.py / parallel.py (law.py)
+    f += gravity                             components/gravity.py   (empty bundle: nothing)
+    f += applied loads                       components/loads.py
+    servo velocities from f                  components/servo.py: last, so it reacts to every
+                                             force of the step
+    for each free velocity component:  F_d = f - alpha |f| sign(v)        (local damping)
+                                       v  += F_d / m_inertial * dt
+    prescribed components:             v   = v_bc
+    x += v dt;  theta += omega dt;  checks (stability, search needed)
+    kinetic damping (every ``kinetic_interval`` steps)
+
+Velocities live at half steps (t - dt/2, t + dt/2), positions at whole steps. With alpha = 0 the
+scheme is symplectic: energy oscillates by O((omega dt)^2) and does not drift.
+
+Kinetic damping (dynamic relaxation, ``Integrator.kinetic_interval`` > 0): every that many steps
+the kinetic energy of the free velocity components (inertial masses) is compared with the last
+check; when it has fallen, the model has just passed a kinetic-energy peak, i.e. its lowest
+active mode is near its static position, and every free velocity is set to zero. The motion
+restarts as leapfrog starts from rest: the first velocity update after the stop is half a step
+(v = a dt/2), which makes the stopped position a turning point of every mode (a plain v = 0
+restart starts each fast mode with its amplitude divided by cos(omega dt/2): docs/history.md).
+The interval must stay well below a quarter of the slowest period; local damping converges a
+slender model's lowest bending mode only over many of its periods, kinetic damping within a few
+quarter periods. Prescribed velocities are kept.
+
+Run status codes: 0 done, 1 a block moved more than half the search margin since the last
+contact search (the driver searches and continues), 2 unstable (NaN, or a block moving more than
+a tenth of its radius, or turning 0.1 rad, in one step; ``bad`` names the block).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .components import add_gravity, add_loads, servo_velocities
+from .forces import add_contact_forces
+from .kinematics import body_point, update_rotation
+from .parallel import add_contact_forces_parallel
+
+__all__ = ["run_steps", "frequency_bound", "free_kinetic_energy", "stop_free_motion",
+           "advance", "DONE", "NEED_SEARCH", "UNSTABLE"]
+
+DONE, NEED_SEARCH, UNSTABLE = 0, 1, 2
+
+
+@njit(cache=True)
+def run_steps(nsteps, time, integ, s, p, c, strength, cracks, par, gravity, loads, servo):
+    """Advance up to ``nsteps`` steps; returns (steps done, time, status, block).
+
+    ``integ`` Integrator, ``s`` BlockState, ``p`` BlockProps, ``c`` Contacts, ``strength`` the
+    material table's (nm, 7) rows, ``cracks`` CrackLog, ``par`` Parallel (empty: serial), then
+    the component bundles. Stops early with status 1 (search needed, after completing the step)
+    or 2 (unstable, before moving).
+    """
+    for step in range(nsteps):
+        s.force[:] = 0.0
+        if par.offsets.shape[0] == 0:
+            add_contact_forces(c, strength, s, cracks, time)
+        else:
+            add_contact_forces_parallel(c, strength, s, cracks, time, par)
+        add_gravity(gravity, s, p)
+        add_loads(loads, s, p)
+        servo_velocities(servo, s, p)
+        kick = 0.5 * integ.dt if integ.kinetic[2] != 0.0 else integ.dt
+        integ.kinetic[2] = 0.0
+        status, bad = advance(s, p, integ, kick)
+        if status == UNSTABLE:
+            return step, time, UNSTABLE, bad
+        update_rotation(s.theta, s.rot)
+        time += integ.dt
+        kinetic_damping(integ, s, p)
+        if status == NEED_SEARCH:
+            return step + 1, time, NEED_SEARCH, bad
+    return nsteps, time, DONE, -1
+
+
+@njit(cache=True, inline="always")
+def _damped(f, v, alpha):
+    if alpha > 0.0 and v != 0.0:
+        return f - alpha * abs(f) * (1.0 if v > 0.0 else -1.0)
+    return f
+
+
+@njit(cache=True)
+def advance(s, p, integ, kick):
+    """Damp, integrate and check every block; returns (status, block).
+
+    ``kick`` (s): the time of the velocity update (``dt``, or ``dt / 2`` on the first step after
+    a kinetic-damping stop); positions always move by v dt.
+    """
+    dt, alpha, vel, omega = integ.dt, integ.damping, s.vel, s.omega
+    status, bad = DONE, -1
+    for i in range(s.pos.shape[0]):
+        if not p.active[i]:
+            continue
+        fx = p.fixity[i]
+        if fx & 1:
+            vel[i, 0] = p.velocity_bc[i, 0]
+        else:
+            vel[i, 0] += _damped(s.force[i, 0], vel[i, 0], alpha) * p.inv_mass[i] * kick
+        if fx & 2:
+            vel[i, 1] = p.velocity_bc[i, 1]
+        else:
+            vel[i, 1] += _damped(s.force[i, 1], vel[i, 1], alpha) * p.inv_mass[i] * kick
+        if fx & 4:
+            omega[i] = p.velocity_bc[i, 2]
+        else:
+            omega[i] += _damped(s.force[i, 2], omega[i], alpha) * p.inv_inertia[i] * kick
+        if not (math.hypot(vel[i, 0], vel[i, 1]) * dt <= 0.1 * p.radius[i]
+                and abs(omega[i]) * dt <= 0.1):             # also catches NaN
+            return UNSTABLE, i
+        s.pos[i, 0] += vel[i, 0] * dt
+        s.pos[i, 1] += vel[i, 1] * dt
+        s.theta[i] += omega[i] * dt
+        moved = (math.hypot(s.pos[i, 0] - s.pos_search[i, 0], s.pos[i, 1] - s.pos_search[i, 1])
+                 + abs(s.theta[i] - s.theta_search[i]) * p.radius[i])
+        if moved > integ.half_margin:
+            status, bad = NEED_SEARCH, i
+    return status, bad
+
+
+@njit(cache=True)
+def kinetic_damping(integ, s, p):
+    """Every ``kinetic_interval`` steps: stop all free motion after a kinetic-energy peak."""
+    if integ.kinetic_interval <= 0:
+        return
+    k = integ.kinetic
+    k[1] += 1.0
+    if k[1] < integ.kinetic_interval:
+        return
+    k[1] = 0.0
+    ke = free_kinetic_energy(s, p)
+    if ke < k[0]:
+        stop_free_motion(s, p)
+        ke = 0.0
+        k[2] = 1.0          # restart from rest: half a kick next step
+    k[0] = ke
+
+
+@njit(cache=True)
+def free_kinetic_energy(s, p):
+    """1/2 sum m v^2 + I w^2 over free velocity components, inertial (scaled) masses, J/m."""
+    ke = 0.0
+    for i in range(s.vel.shape[0]):
+        if not p.active[i]:
+            continue
+        fx = p.fixity[i]
+        if p.inv_mass[i] > 0.0:
+            if not fx & 1:
+                ke += s.vel[i, 0] * s.vel[i, 0] / p.inv_mass[i]
+            if not fx & 2:
+                ke += s.vel[i, 1] * s.vel[i, 1] / p.inv_mass[i]
+        if p.inv_inertia[i] > 0.0 and not fx & 4:
+            ke += s.omega[i] * s.omega[i] / p.inv_inertia[i]
+    return 0.5 * ke
+
+
+@njit(cache=True)
+def stop_free_motion(s, p):
+    """Zero every free velocity component (prescribed ones keep their value)."""
+    for i in range(s.vel.shape[0]):
+        if not p.active[i]:
+            continue
+        fx = p.fixity[i]
+        if not fx & 1:
+            s.vel[i, 0] = 0.0
+        if not fx & 2:
+            s.vel[i, 1] = 0.0
+        if not fx & 4:
+            s.omega[i] = 0.0
+
+
+@njit(cache=True)
+def frequency_bound(c, s, p):
+    """(nb,) upper bound of omega^2 per block: 2 (sum k L / m + sum k L r^2 / I), k = kn + ks.
+
+    The factor 2 bounds the coupling to the neighbours (Gershgorin); the sum of kn and ks bounds
+    both directions. The critical step of central differences is 2/omega_max.
+    """
+    nb = p.mass.shape[0]
+    kt = np.zeros(nb)
+    kr = np.zeros(nb)
+    for k in range(c.count[0]):
+        a, b = c.block_a[k], c.block_b[k]
+        kk = (c.kn[k] + c.ks[k]) * c.length[k]
+        x, y = body_point(s.pos, s.rot, a, c.point_a[k, 0], c.point_a[k, 1])
+        kt[a] += kk
+        kt[b] += kk
+        kr[a] += kk * ((x - s.pos[a, 0]) ** 2 + (y - s.pos[a, 1]) ** 2)
+        kr[b] += kk * ((x - s.pos[b, 0]) ** 2 + (y - s.pos[b, 1]) ** 2)
+    return 2.0 * (kt / p.mass + kr / p.inertia)
