@@ -44,14 +44,14 @@ MPA = 1e6
 
 VARIANTS = {
     "quick": dict(
-        ucs_edge=0.007, shear_edge=0.007, ucs_rate=2e-7, shear_rate=3e-7,
+        ucs_edge=0.007, shear_edge=0.007, ucs_rate=1.5e-7, shear_rate=3e-7,
         ucs_max_strain=0.02, shear_max_disp=0.003,
         normal_stresses=[0.3, 1.2, 2.4], lajtai_normal_stresses=[0.3, 1.2, 2.4],
         persistence=[0.0, 0.5, 1.0], tensile=[0.5, 1.0], scale_edges=[],
         cohesion_sweep=[], accuracy_edges=[], accuracy_safety=[], continuum=True,
         continuum_h=0.01, continuum_normal_stresses=[0.3, 1.2, 2.4], workers=1),
     "full": dict(
-        ucs_edge=0.007, shear_edge=0.007, ucs_rate=2e-7, shear_rate=2e-7,
+        ucs_edge=0.007, shear_edge=0.007, ucs_rate=1.5e-7, shear_rate=2e-7,
         ucs_max_strain=0.03, shear_max_disp=0.004,
         normal_stresses=[0.3, 0.6, 0.9, 1.2, 1.5, 1.8, 2.1, 2.4],
         lajtai_normal_stresses=[0.3, 0.6, 0.9, 1.2, 1.5, 1.8],
