@@ -197,7 +197,7 @@ def _curves_and_figures(result, runs, base_run):
         xy = np.asarray(r["crack_xy"]).reshape(-1, 2)
         result.curves["cracks_" + name] = Curve(["x_m", "y_m", "mode_1tension_2shear"],
                                                 np.column_stack([xy, r["crack_mode"]]))
-    ft = [(t, g) for t, g in result.methods["dem"]["failure_g"]]
+    ft = sorted((t, g) for t, g in result.methods["dem"]["failure_g"])   # (run order: base first)
     result.curves["failure_g_vs_tensile"] = Curve(
         ["tensile_strength_mpa", "failure_g"],
         np.array([[t, np.nan if g is None else g] for t, g in ft]))
