@@ -19,17 +19,18 @@ RUNAWAY = 0.02   # m
 
 def run_continuum(h: float, g_max: float, result) -> dict:
     """Critical g, displacement at A and B against g, and a yield-indicator figure."""
+    from continuum_ref.from_scene import mesh_from_scene
     from continuum_ref.materials import MohrCoulomb
-    from continuum_ref.mesh import mesh_from_geometry
 
     t0 = time.perf_counter()
     p = scene.AdhikaryParams()
-    mesh = mesh_from_geometry(scene.geometry(p), h, points=scene.monitoring_points())
+    sc = scene.scene(p)
+    mesh = mesh_from_scene(sc, h)
     material = MohrCoulomb(E=p.block_E, nu=p.block_nu, cohesion=p.flaw_cohesion,
                            friction=p.flaw_friction, dilation=0.0,
                            tensile_strength=p.flaw_tensile)
     out = continuum_critical_g(
-        mesh, material, scene.DENSITY, scene.WIDTH, g_max, result, RUNAWAY,
+        sc, mesh, material, g_max, result, RUNAWAY,
         "Mohr-Coulomb c 1.6 MPa, friction 37, T 1.1 MPa, dilation 0 (intact rock smeared; no "
         "joints)")
     out["runtime_s"] = time.perf_counter() - t0

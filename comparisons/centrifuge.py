@@ -1,9 +1,10 @@
 """What the centrifuge slope cases share: one g-ramp run of a scene as a sweep member, the
 rupture surface from its crack log, and the figures (cracks at failure, displacement vs g).
 
-A scene module passed here provides ``build_model(params, blocks, **options)``,
-``geometry(params)``, ``profile()``, ``face()`` and ``monitoring_points()`` (points "A" and
-"B"); see comparisons/scenes/longtan.py.
+A scene module passed here provides ``scene(params, stages)`` (the ``dem_core.scene.Scene`` both
+methods build from: geometry, materials, boundaries, points "A" and "B", solver), ``profile()``
+and ``face()``; see comparisons/scenes/longtan.py. The g-ramp is the scene's one stage
+(``dem_core.stages.RaiseGravity``) run by ``dem_core.stages.run_stages``.
 """
 from __future__ import annotations
 
@@ -12,8 +13,8 @@ import time
 import numba
 import numpy as np
 
-from dem_core.geometry import build_block_system
-from dem_core.gravity_ramp import raise_gravity
+from dem_core.scene import build_model
+from dem_core.stages import RaiseGravity, run_stages
 from dem_core.rupture import angle_to_joint_normal, depth_from_face, find_rupture
 
 
@@ -52,7 +53,7 @@ def ramp_members(v: dict, seed: int, **studies) -> list:
 
 def ramp_run(scene, params, member: dict, failure_displacement: float, creep: float,
              rupture_materials=("flaw:",)) -> dict:
-    """Raise gravity on one scene to failure (``dem_core.gravity_ramp``, watching A and B).
+    """Raise gravity on one scene to failure (a ``RaiseGravity`` stage, watching A and B).
 
     ``member`` holds ``label``, ``params`` (the plain dict of ``params``), ``g_levels``,
     ``max_steps`` and optionally ``threads``, ``damping`` and ``kinetic_damping`` (the solver,
@@ -65,14 +66,15 @@ def ramp_run(scene, params, member: dict, failure_displacement: float, creep: fl
     ``runtime_s``. The rupture is added by ``rupture``.
     """
     t0 = time.perf_counter()
-    blocks = build_block_system(scene.geometry(params))
-    threads = min(member.get("threads", 1), numba.config.NUMBA_NUM_THREADS)
-    model = scene.build_model(params, blocks, mass_scaling=True, threads=threads,
-                              damping=member.get("damping", DAMPING),
-                              kinetic_damping=member.get("kinetic_damping", KINETIC_DAMPING))
-    rec = raise_gravity(model, member["g_levels"], ratio=1e-5, max_steps=member["max_steps"],
+    ramp = RaiseGravity(tuple(member["g_levels"]), ratio=1e-5, max_steps=member["max_steps"],
                         failure_displacement=failure_displacement, creep=creep,
                         watch=("A", "B"), refine_to=member.get("refine_to"))
+    sc = scene.scene(params, stages=[ramp])
+    threads = min(member.get("threads", 1), numba.config.NUMBA_NUM_THREADS)
+    model = build_model(sc, threads=threads, damping=member.get("damping", DAMPING),
+                        kinetic_damping=member.get("kinetic_damping", KINETIC_DAMPING))
+    blocks = model.blocks
+    rec = run_stages(model, sc.stages)[0].detail["ramp"]
     log = model.crack_log()
     keep = np.array([m.startswith(tuple(rupture_materials)) for m in log["material"]], bool)
     return {
@@ -185,26 +187,25 @@ def cracks_figure(scene, run: dict, rupture_line=None, title: str = "", referenc
     return fig
 
 
-def continuum_critical_g(mesh, material, density: float, width: float, g_max: float, result,
-                         runaway: float, label: str) -> dict:
+def continuum_critical_g(sc, mesh, material, g_max: float, result, runaway: float,
+                         label: str) -> dict:
     """The continuum column of a centrifuge case: the slope ``mesh`` (continuum_ref, with
-    history points "A" and "B") of ``material`` on a fixed base with rollers at x = 0 and
-    x = ``width`` (m), gravity raised with step cutting until Newton fails or a node moves more
-    than ``runaway`` m (``continuum_ref.ssr.critical_g``). Adds the yield-indicator figure to
-    ``result`` and returns failure g, last stable g, ux of A and B against g (m), Newton
-    iterations, cells, ``label`` (the material in words) and runtime_s (s, without the
-    caller's meshing)."""
+    history points "A" and "B") of ``material`` with the boundaries of the scene ``sc`` (the
+    DEM's: a fixed base, rollers on the sides; ``continuum_ref.from_scene``) and its density,
+    gravity raised with step cutting until Newton fails or a node moves more than ``runaway`` m
+    (``continuum_ref.ssr.critical_g``). Adds the yield-indicator figure to ``result`` and
+    returns failure g, last stable g, ux of A and B against g (m), Newton iterations, cells,
+    ``label`` (the material in words) and runtime_s (s, without the caller's meshing)."""
     import matplotlib.pyplot as plt
 
+    from continuum_ref.from_scene import apply_boundaries, scene_bounds
     from continuum_ref.model import ContinuumModel
     from continuum_ref.plot import plot_yield
     from continuum_ref.ssr import critical_g
 
     t0 = time.perf_counter()
-    model = ContinuumModel(mesh, material, density)
-    tol = 1e-9
-    model.fix(lambda x: x[1] < tol)
-    model.fix(lambda x: (x[0] < tol) | (x[0] > width - tol), components=(0,))
+    model = ContinuumModel(mesh, material, sc.density)
+    apply_boundaries(model, sc, scene_bounds(sc))
     model.solve_gravity(1.0)
     limit = critical_g(model, g_max=float(g_max), first_step=max(1.0, g_max / 10.0),
                        tol=1.0, runaway=runaway)

@@ -34,17 +34,18 @@ def equivalent_rock_mass(p: scene.LongtanParams) -> dict:
 
 def run_continuum(h: float, g_max: float, result) -> dict:
     """Critical g, displacement at A and B against g, and a yield-indicator figure."""
+    from continuum_ref.from_scene import mesh_from_scene
     from continuum_ref.materials import MohrCoulomb
-    from continuum_ref.mesh import mesh_from_geometry
 
     t0 = time.perf_counter()
     p = scene.LongtanParams()
     mass = equivalent_rock_mass(p)
+    sc = scene.scene(p)
     section = GeometrySpec([scene.slope_region()])         # one region: no joints
-    mesh = mesh_from_geometry(section, h, points=scene.monitoring_points())
+    mesh = mesh_from_scene(sc, h, geometry=section)
     material = MohrCoulomb(E=p.block_E, nu=p.block_nu, dilation=0.0, **mass)
     out = continuum_critical_g(
-        mesh, material, scene.DENSITY, scene.WIDTH, g_max, result, RUNAWAY,
+        sc, mesh, material, g_max, result, RUNAWAY,
         f"Mohr-Coulomb c {mass['cohesion'] / 1e6:.3f} MPa, friction {mass['friction']:.1f}, "
         f"T {mass['tensile_strength'] / 1e6:.2f} MPa, dilation 0 (bridges smeared, k = 0.7; "
         f"no joints)")

@@ -36,6 +36,10 @@ from dem_core.geometry import (GeometrySpec, JointSet, Region, Voronoi, build_bl
                                slope_profile)
 from dem_core.materials import Material
 from dem_core.model import Model
+from dem_core.scene import Scene
+from dem_core.scene import build_model as build_scene_model
+
+from . import CENTRIFUGE_BOUNDARIES, CENTRIFUGE_GROUPS
 
 WIDTH, HEIGHT, SLOPE_HEIGHT, FACE_DIP, TOE_BENCH = 0.400, 0.395, 0.330, 61.0, 0.0
 BASE = HEIGHT - SLOPE_HEIGHT
@@ -134,16 +138,20 @@ def materials(p: AdhikaryParams) -> dict:
     return {"flaw:rock": flaw, "joint:bedding": bedding}
 
 
+def scene(p: AdhikaryParams, stages=()) -> Scene:
+    """The scene as data (``dem_core.scene``): geometry, materials, the centrifuge boundaries,
+    points A and B, the quasi-static g-ramp solver (kinetic damping, mass scaling) and
+    ``stages`` (e.g. one ``stages.RaiseGravity``)."""
+    solver = {"mass_scaling": True, "damping": 0.0, "kinetic_damping": 100}
+    if p.conventional:
+        solver["unbreakable"] = "flaw:*"
+    return Scene(geometry(p), materials(p), density=DENSITY, block_E=p.block_E,
+                 block_nu=p.block_nu, groups=CENTRIFUGE_GROUPS,
+                 boundaries=CENTRIFUGE_BOUNDARIES, points=monitoring_points(p), stages=list(stages),
+                 solver=solver, name="adhikary")
+
+
 def build_model(p: AdhikaryParams, blocks=None, **model_options) -> Model:
-    """The DEM model of the scene with its boundary conditions and points A and B."""
-    blocks = build_block_system(geometry(p)) if blocks is None else blocks
-    model = Model(blocks, materials(p), density=DENSITY, block_E=p.block_E,
-                  block_nu=p.block_nu, unbreakable="flaw:*" if p.conventional else None,
-                  **model_options)
-    base = blocks.touching("bottom")
-    model.fix(base)
-    sides = np.setdiff1d(np.union1d(blocks.touching("left"), blocks.touching("right")), base)
-    model.fix(sides, x=True, y=False, rotation=False)
-    for name, xy in monitoring_points(p).items():
-        model.add_history_point(name, xy)
-    return model
+    """The DEM model of the scene with its boundary conditions and points A and B
+    (``dem_core.scene.build_model``; ``model_options`` override the scene's solver)."""
+    return build_scene_model(scene(p), blocks, **model_options)

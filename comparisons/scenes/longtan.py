@@ -72,6 +72,10 @@ from dem_core.geometry import (GeometrySpec, JointSet, Region, Voronoi, build_bl
                                slope_profile, zone_polygon_along_face)
 from dem_core.materials import Material
 from dem_core.model import Model
+from dem_core.scene import Scene
+from dem_core.scene import build_model as build_scene_model
+
+from . import CENTRIFUGE_BOUNDARIES, CENTRIFUGE_GROUPS
 
 WIDTH, SLOPE_HEIGHT, BASE, FACE_DIP = 0.752, 0.40, 0.10, 75.0
 HEIGHT = SLOPE_HEIGHT + BASE
@@ -249,15 +253,20 @@ def regions_material_names(p: LongtanParams) -> list:
     return [f"boundary:{a}|{b}" for i, a in enumerate(names) for b in names[i + 1:]]
 
 
+def scene(p: LongtanParams, stages=()) -> Scene:
+    """The scene as data (``dem_core.scene``): geometry, materials, the centrifuge boundaries,
+    points A and B, the quasi-static g-ramp solver (kinetic damping, mass scaling) and
+    ``stages`` (e.g. one ``stages.RaiseGravity``)."""
+    # (conventional mode: the materials themselves are glued, ``materials``)
+    solver = {"new_contact_material": "joint:columns", "mass_scaling": True, "damping": 0.0,
+              "kinetic_damping": 100}
+    return Scene(geometry(p), materials(p), density=DENSITY, block_E=p.block_E,
+                 block_nu=p.block_nu, groups=CENTRIFUGE_GROUPS,
+                 boundaries=CENTRIFUGE_BOUNDARIES, points=monitoring_points(), stages=list(stages),
+                 solver=solver, name="longtan")
+
+
 def build_model(p: LongtanParams, blocks=None, **model_options) -> Model:
-    """The DEM model of the scene with its boundary conditions and points A and B."""
-    blocks = build_block_system(geometry(p)) if blocks is None else blocks
-    model = Model(blocks, materials(p), density=DENSITY, block_E=p.block_E,
-                  block_nu=p.block_nu, new_contact_material="joint:columns", **model_options)
-    base = blocks.touching("bottom")
-    model.fix(base)
-    sides = np.setdiff1d(np.union1d(blocks.touching("left"), blocks.touching("right")), base)
-    model.fix(sides, x=True, y=False, rotation=False)
-    for name, xy in monitoring_points().items():
-        model.add_history_point(name, xy)
-    return model
+    """The DEM model of the scene with its boundary conditions and points A and B
+    (``dem_core.scene.build_model``; ``model_options`` override the scene's solver)."""
+    return build_scene_model(scene(p), blocks, **model_options)

@@ -1,0 +1,252 @@
+"""Stages: what happens to a scene, as records, and the one runner that executes them.
+
+A stage is a small frozen record; ``run_stages(model, stages)`` runs them in order on a DEM
+``Model`` and records, per stage, its steps, verdict, the displacement of every monitoring
+point and the crack counts (``StageRecord``). The centrifuge g-ramp is one stage kind
+(``RaiseGravity``, executed by ``gravity_ramp.raise_gravity``), not a second driver.
+
+| kind (file) | record | does |
+|---|---|---|
+| "gravity" | ``Gravity(g_level, direction)`` | sets gravity (g-level x 9.81 m/s^2) |
+| "solve" | ``Solve(ratio, max_steps, failure_displacement)`` | cycles to equilibrium |
+| "cycle" | ``Cycle(steps)`` | a fixed number of steps |
+| "raise_gravity" | ``RaiseGravity(g_levels, ...)`` | centrifuge ramp to failure |
+| "excavate" | ``Excavate(group)`` | removes a group's blocks |
+| "change_material" | ``ChangeMaterial(material, changes)`` | a strength (or stiffness) change |
+| "prescribe_velocity" | ``PrescribeVelocity(group, vx, vy, omega)`` | velocity boundary (m/s) |
+| "release" | ``Release(group)`` | frees a group's prescribed velocities |
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from dataclasses import dataclass, field
+
+from .materials import Material
+
+__all__ = ["Gravity", "Solve", "Cycle", "RaiseGravity", "Excavate", "ChangeMaterial",
+           "PrescribeVelocity", "Release", "StageRecord", "run_stages", "stage_from_dict",
+           "stage_to_dict", "STAGE_KINDS"]
+
+
+def _group_known(i, kind, group, known):
+    if group not in known:
+        raise ValueError(f"stage {i} ({kind}) names unknown group {group!r}; groups are "
+                         f"{sorted(known)}")
+
+
+@dataclass(frozen=True)
+class Gravity:
+    g_level: float = 1.0
+    direction: tuple = (0.0, -1.0)
+
+    def check(self, i, groups, materials):
+        d = [float(v) for v in self.direction]
+        if not (math.isfinite(self.g_level) and self.g_level >= 0 and len(d) == 2
+                and all(math.isfinite(v) for v in d) and math.hypot(*d) > 0):
+            raise ValueError(f"stage {i} (gravity): g_level {self.g_level!r} must be >= 0 and "
+                             f"direction {self.direction!r} a non-zero 2-vector")
+
+    def run(self, model):
+        model.set_gravity(self.g_level, direction=self.direction)
+        return 0, "set", {}
+
+
+@dataclass(frozen=True)
+class Solve:
+    ratio: float = 1e-5
+    max_steps: int = 100_000
+    failure_displacement: float | None = None
+
+    def check(self, i, groups, materials):
+        if not (self.ratio > 0 and self.max_steps > 0):
+            raise ValueError(f"stage {i} (solve): ratio {self.ratio!r} and max_steps "
+                             f"{self.max_steps!r} must be > 0")
+
+    def run(self, model):
+        r = model.solve(ratio=self.ratio, max_steps=self.max_steps,
+                        failure_displacement=self.failure_displacement)
+        return r.steps, r.verdict, {"ratio": r.ratio, "reason": r.reason}
+
+
+@dataclass(frozen=True)
+class Cycle:
+    steps: int
+
+    def check(self, i, groups, materials):
+        if not (isinstance(self.steps, int) and self.steps > 0):
+            raise ValueError(f"stage {i} (cycle): steps must be an integer > 0, got "
+                             f"{self.steps!r}")
+
+    def run(self, model):
+        model.cycle(self.steps)
+        return self.steps, "done", {}
+
+
+@dataclass(frozen=True)
+class RaiseGravity:
+    g_levels: tuple
+    ratio: float = 1e-5
+    max_steps: int = 20_000
+    failure_displacement: float | None = None
+    creep: float | None = None
+    watch: tuple = ()
+    refine_to: float | None = None
+
+    def check(self, i, groups, materials):
+        g = [float(v) for v in self.g_levels]
+        if not g or not all(math.isfinite(v) and v > 0 for v in g) or sorted(g) != g:
+            raise ValueError(f"stage {i} (raise_gravity): g_levels must be increasing and > 0, "
+                             f"got {self.g_levels!r}")
+
+    def run(self, model):
+        from .gravity_ramp import raise_gravity
+        missing = [w for w in self.watch if w not in model.points]
+        if missing:
+            raise ValueError(f"raise_gravity watches unknown monitoring point(s) {missing}")
+        rec = raise_gravity(model, list(self.g_levels), ratio=self.ratio,
+                            max_steps=self.max_steps,
+                            failure_displacement=self.failure_displacement, creep=self.creep,
+                            watch=tuple(self.watch), refine_to=self.refine_to)
+        verdict = "failed" if rec.failure_g is not None else (
+            "unstable" if rec.unstable else "stood")
+        return int(sum(rec.steps)), verdict, {"failure_g": rec.failure_g,
+                                              "last_stable_g": rec.last_stable_g,
+                                              "g": list(rec.g), "verdicts": list(rec.verdict),
+                                              "ramp": rec}
+
+
+@dataclass(frozen=True)
+class Excavate:
+    group: str
+
+    def check(self, i, groups, materials):
+        _group_known(i, "excavate", self.group, groups)
+
+    def run(self, model):
+        model.remove(self.group)
+        return 0, "removed", {}
+
+
+@dataclass(frozen=True)
+class ChangeMaterial:
+    material: str
+    changes: dict = field(default_factory=dict)
+
+    def check(self, i, groups, materials):
+        if self.material not in materials:
+            raise ValueError(f"stage {i} (change_material) names unknown material "
+                             f"{self.material!r}; materials are {sorted(materials)}")
+        fields = {f.name for f in dataclasses.fields(Material)}
+        bad = set(self.changes) - fields
+        if bad or not self.changes:
+            raise ValueError(f"stage {i} (change_material): changes {sorted(self.changes)} must "
+                             f"be Material fields {sorted(fields)}")
+        dataclasses.replace(materials[self.material], **self.changes).validated(
+            f"stage {i} (change_material {self.material!r})")
+
+    def run(self, model):
+        model.set_material(self.material, **self.changes)
+        return 0, "changed", {}
+
+
+@dataclass(frozen=True)
+class PrescribeVelocity:
+    group: str
+    vx: float | None = None
+    vy: float | None = None
+    omega: float | None = 0.0
+
+    def check(self, i, groups, materials):
+        _group_known(i, "prescribe_velocity", self.group, groups)
+        for v in (self.vx, self.vy, self.omega):
+            if v is not None and not math.isfinite(v):
+                raise ValueError(f"stage {i} (prescribe_velocity): velocity {v!r} not finite")
+
+    def run(self, model):
+        model.set_velocity(self.group, self.vx, self.vy, self.omega)
+        return 0, "set", {}
+
+
+@dataclass(frozen=True)
+class Release:
+    group: str
+
+    def check(self, i, groups, materials):
+        _group_known(i, "release", self.group, groups)
+
+    def run(self, model):
+        model.free(self.group)
+        return 0, "released", {}
+
+
+STAGE_KINDS = {"gravity": Gravity, "solve": Solve, "cycle": Cycle,
+               "raise_gravity": RaiseGravity, "excavate": Excavate,
+               "change_material": ChangeMaterial, "prescribe_velocity": PrescribeVelocity,
+               "release": Release}
+_KIND_OF = {cls: kind for kind, cls in STAGE_KINDS.items()}
+
+
+def stage_to_dict(stage) -> dict:
+    """The stage as a file record: {"kind": ..., fields...}."""
+    return {"kind": _KIND_OF[type(stage)], **dataclasses.asdict(stage)}
+
+
+def stage_from_dict(d: dict, i: int = 0):
+    """A stage record from its file form; ValueError naming an unknown kind or field."""
+    d = dict(d)
+    kind = d.pop("kind", None)
+    if kind not in STAGE_KINDS:
+        raise ValueError(f"stage {i}: unknown kind {kind!r}; kinds are {sorted(STAGE_KINDS)}")
+    cls = STAGE_KINDS[kind]
+    allowed = {f.name for f in dataclasses.fields(cls)}
+    if set(d) - allowed:
+        raise ValueError(f"stage {i} ({kind}): unknown key(s) {sorted(set(d) - allowed)}; "
+                         f"allowed {sorted(allowed)}")
+    for key in ("direction", "g_levels", "watch"):
+        if key in d:
+            d[key] = tuple(d[key])
+    try:
+        return cls(**d)
+    except TypeError as e:
+        raise ValueError(f"stage {i} ({kind}): {e}") from None
+
+
+@dataclass
+class StageRecord:
+    """What one stage did: its kind, steps, verdict, model time at its end (s), the
+    displacement (ux, uy, m) of each monitoring point at its end, the crack counts so far,
+    wall-clock seconds, and kind-specific ``detail`` (a g-ramp's failure_g, last_stable_g, g,
+    verdicts, and "ramp": its whole ``gravity_ramp.RampRecord``)."""
+
+    index: int
+    kind: str
+    steps: int
+    verdict: str
+    time: float
+    points: dict
+    cracks: dict
+    seconds: float
+    detail: dict
+
+
+def run_stages(model, stages, progress=None) -> list:
+    """Run ``stages`` in order on ``model``; returns one StageRecord per stage. ``progress``:
+    optional callable(str). A stage that raises stops the run; the records of the finished
+    stages are in the exception's ``records`` attribute."""
+    records = []
+    for i, st in enumerate(stages):
+        t0 = time.perf_counter()
+        try:
+            steps, verdict, detail = st.run(model)
+        except Exception as e:
+            e.records = records
+            raise
+        pts = {n: tuple(float(v) for v in model.point_motion(n)[:2]) for n in model.points}
+        rec = StageRecord(i, _KIND_OF[type(st)], int(steps), verdict, float(model.time), pts,
+                          model.crack_counts(), time.perf_counter() - t0, detail)
+        records.append(rec)
+        if progress is not None:
+            progress(f"stage {i} {rec.kind}: {verdict}, {steps} steps, {rec.seconds:.1f} s")
+    return records
