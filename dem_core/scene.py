@@ -22,6 +22,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import re
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -157,9 +158,12 @@ class Scene:
 
     def save(self, path) -> None:
         """Write the scene as readable JSON."""
+        text = json.dumps(self.to_dict(), indent=1)
+        # a list of plain numbers on one line: [x, y] pairs stay readable
+        text = re.sub(r"\[\s+([-+0-9.eE,\s]+?)\s+\]",
+                      lambda m: "[" + " ".join(m.group(1).split()) + "]", text)
         with open(path, "w") as fh:
-            json.dump(self.to_dict(), fh, indent=1)
-            fh.write("\n")
+            fh.write(text + "\n")
 
     @classmethod
     def load(cls, path) -> "Scene":

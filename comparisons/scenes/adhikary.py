@@ -38,6 +38,7 @@ from dem_core.materials import Material
 from dem_core.model import Model
 from dem_core.scene import Scene
 from dem_core.scene import build_model as build_scene_model
+from dem_core.stages import RaiseGravity
 
 from . import CENTRIFUGE_BOUNDARIES, CENTRIFUGE_GROUPS
 
@@ -149,6 +150,22 @@ def scene(p: AdhikaryParams, stages=()) -> Scene:
                  block_nu=p.block_nu, groups=CENTRIFUGE_GROUPS,
                  boundaries=CENTRIFUGE_BOUNDARIES, points=monitoring_points(p), stages=list(stages),
                  solver=solver, name="adhikary")
+
+
+def base_run() -> Scene:
+    """The thesis's base run as a scene (the file ``adhikary.json`` next to this module): the
+    default parameters (6 mm random cells, T = 1.1 MPa) raised from 10 g in 10 g levels, each
+    failure bracket bisected to 1 g (the full variant's ramp, ``comparisons.adhikary``)."""
+    ramp = RaiseGravity(tuple(float(g) for g in range(10, 301, 10)), ratio=1e-5,
+                        max_steps=40_000, failure_displacement=0.005, creep=2e-4,
+                        watch=("A", "B"), refine_to=1.0)
+    sc = scene(AdhikaryParams(edge_length=0.006, relax_iterations=10), stages=[ramp])
+    sc.description = ("Adhikary & Dyskin (2006) centrifuge model IGM-01, the thesis's base run "
+                      "(4.2): 0.33 m slope at 61 deg, 10 mm beds dipping 81 deg into it, 6 mm "
+                      "Voronoi flaws T 1.1 MPa; fixed base, rollers on the sides; A crest, B "
+                      "mid-face; g raised in 10 g levels, failures bisected to 1 g. Geometry "
+                      "assumptions: comparisons/scenes/adhikary.py.")
+    return sc
 
 
 def build_model(p: AdhikaryParams, blocks=None, **model_options) -> Model:
