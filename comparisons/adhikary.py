@@ -33,6 +33,7 @@ from comparisons import centrifuge
 from comparisons.results import CaseResult, Curve
 from comparisons.scenes import adhikary as scene
 from comparisons.sweep import run_sweep
+from comparisons.variants import pick_variant
 
 DESCRIPTION = ("Centrifuge flexural toppling (Adhikary & Dyskin 2006, thesis 4.2): failure g "
                "against flaw tensile strength; damage model vs conventional DEM vs continuum")
@@ -108,10 +109,9 @@ def _members(v: dict, seed: int) -> list:
                     "bedding c {:g} kPa": ("bedding_cohesion", v["bedding_cohesion"], 1e3)})
 
 
-def run(variant: str = "quick", seed: int = 1, progress=None) -> CaseResult:
-    if variant not in VARIANTS:
-        raise ValueError(f"variant must be one of {sorted(VARIANTS)}, got {variant!r}")
-    v = VARIANTS[variant]
+def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
+    """Run the case: ``variant`` is "quick", "full" or a settings mapping (``VARIANTS`` keys)."""
+    variant, v = pick_variant("adhikary", VARIANTS, variant)
     progress = progress or (lambda message: None)
     result = CaseResult("adhikary", variant, seed, reference=dict(REFERENCE))
     members = _members(v, seed)

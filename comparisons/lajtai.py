@@ -36,6 +36,7 @@ from comparisons import lab
 from comparisons.results import CaseResult, Curve
 from comparisons.scenes import lajtai as scene
 from comparisons.sweep import run_sweep
+from comparisons.variants import pick_variant
 
 DESCRIPTION = ("Virtual lab (UCS, tension, E/nu, cohesion calibration) and Lajtai's direct "
                "shear envelopes: open/closed joints, persistence, T, scale (thesis ch. 3)")
@@ -188,10 +189,10 @@ def _flaw_params(cfg, **over):
 
 
 # ---------------------------------------------------------------------------- the run
-def run(variant: str = "quick", seed: int = 1, progress=None) -> CaseResult:
-    if variant not in VARIANTS:
-        raise ValueError(f"unknown variant {variant!r}; use one of {sorted(VARIANTS)}")
-    cfg = dict(VARIANTS[variant], seed=seed)
+def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
+    """Run the case: ``variant`` is "quick", "full" or a settings mapping (``VARIANTS`` keys)."""
+    variant, cfg = pick_variant("lajtai", VARIANTS, variant)
+    cfg["seed"] = seed
     say = progress or (lambda msg: None)
     res = CaseResult(case="lajtai", variant=variant, seed=seed)
     t_dem = time.perf_counter()

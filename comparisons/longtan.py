@@ -27,6 +27,7 @@ from comparisons import centrifuge
 from comparisons.results import CaseResult, Curve
 from comparisons.scenes import longtan as scene
 from comparisons.sweep import run_sweep
+from comparisons.variants import pick_variant
 
 DESCRIPTION = ("Centrifuge block toppling, Longtan intake slope (Zhang et al. 2006, thesis "
                "4.3): failure g and rupture; damage model vs conventional DEM vs continuum")
@@ -73,10 +74,9 @@ def run_member(member: dict) -> dict:
     return run
 
 
-def run(variant: str = "quick", seed: int = 1, progress=None) -> CaseResult:
-    if variant not in VARIANTS:
-        raise ValueError(f"variant must be one of {sorted(VARIANTS)}, got {variant!r}")
-    v = VARIANTS[variant]
+def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
+    """Run the case: ``variant`` is "quick", "full" or a settings mapping (``VARIANTS`` keys)."""
+    variant, v = pick_variant("longtan", VARIANTS, variant)
     progress = progress or (lambda message: None)
     result = CaseResult("longtan", variant, seed, reference=dict(REFERENCE))
     members = centrifuge.ramp_members(v, seed)

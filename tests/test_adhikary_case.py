@@ -9,20 +9,13 @@ from comparisons import adhikary
 from comparisons.results import write_results
 
 TINY = dict(edge_length=0.008, relax_iterations=2, g_levels=[40, 60], max_steps=1500,
-            tensile=[1.1], frictions=[25.0], bedding_cohesion=[], conventional=True,
-            continuum=False, continuum_h=0.02, workers=1, threads=2)
+            refine_to=None, tensile=[1.1], frictions=[25.0], bedding_cohesion=[],
+            conventional=True, continuum=False, continuum_h=0.02, workers=1, threads=2)
 
 
 @pytest.fixture(scope="module")
 def tiny_result():
-    saved = adhikary.VARIANTS.get("tiny")
-    adhikary.VARIANTS["tiny"] = TINY
-    try:
-        yield adhikary.run("tiny", seed=3)
-    finally:
-        adhikary.VARIANTS.pop("tiny")
-        if saved is not None:
-            adhikary.VARIANTS["tiny"] = saved
+    return adhikary.run(TINY, seed=3)          # a custom variant: settings, not a name
 
 
 def test_summary_fields_and_files(tiny_result, tmp_path):
@@ -45,3 +38,5 @@ def test_summary_fields_and_files(tiny_result, tmp_path):
 def test_unknown_variant_is_refused():
     with pytest.raises(ValueError, match="variant"):
         adhikary.run("medium")
+    with pytest.raises(ValueError, match="max_step"):
+        adhikary.run({**TINY, "max_step": 10})        # a misspelled setting is named

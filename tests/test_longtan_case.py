@@ -12,17 +12,13 @@ from comparisons import longtan
 from comparisons.results import write_results
 
 TINY = dict(edge_length=0.010, relax_iterations=2, g_levels=[120, 240, 360], max_steps=20_000,
-            tensile=[4.81], conventional=True, continuum=False, continuum_h=0.05, workers=1,
-            threads=1)
+            refine_to=None, tensile=[4.81], conventional=True, continuum=False,
+            continuum_h=0.05, workers=1, threads=1)
 
 
 @pytest.fixture(scope="module")
 def tiny_result():
-    longtan.VARIANTS["tiny"] = TINY
-    try:
-        yield longtan.run("tiny", seed=1)
-    finally:
-        longtan.VARIANTS.pop("tiny")
+    return longtan.run(TINY, seed=1)           # a custom variant: settings, not a name
 
 
 def test_summary_fields_and_files(tiny_result, tmp_path):

@@ -1,0 +1,27 @@
+"""A case's variants: named settings ("quick", "full") or a settings mapping of the same keys.
+
+``run(variant)`` of a case takes either; a test runs a shrunk case by passing its own settings
+instead of patching the module's table.
+"""
+from __future__ import annotations
+
+__all__ = ["pick_variant"]
+
+
+def pick_variant(case: str, variants: dict, variant) -> tuple:
+    """(name, settings) of ``variant``: a key of ``variants``, or a mapping with exactly the
+    keys every named variant has (its name is then "custom"). ValueError names the problem."""
+    if isinstance(variant, str):
+        if variant not in variants:
+            raise ValueError(f"{case}: variant must be one of {sorted(variants)} or a settings "
+                             f"mapping, got {variant!r}")
+        return variant, dict(variants[variant])
+    if not isinstance(variant, dict):
+        raise ValueError(f"{case}: variant must be a name or a settings mapping, got "
+                         f"{type(variant).__name__}")
+    keys = set(next(iter(variants.values())))
+    missing, unknown = keys - set(variant), set(variant) - keys
+    if missing or unknown:
+        raise ValueError(f"{case}: custom variant has unknown settings {sorted(unknown)} and "
+                         f"lacks {sorted(missing)}")
+    return "custom", dict(variant)
