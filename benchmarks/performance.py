@@ -88,7 +88,8 @@ def profile(n_blocks, steps=200):
     integ = m._integrator()
     timed("damping + integration + movement check (advance)", lambda: step.advance(
         s, p, integ, m.dt))
-    timed("cos/sin of rotations (update_rotation)", lambda: update_rotation(s.theta, s.rot))
+    timed("cos/sin of rotations (update_rotation)",
+          lambda: update_rotation(s.theta, s.rot, s.rot_half))
     m2 = leave_model(bs)
     m2.cycle(steps)
     t0 = time.perf_counter()

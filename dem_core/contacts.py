@@ -5,7 +5,7 @@ Geometry of contact k (all "local" vectors are in the owning block's frame at th
 
     x_a = pos[A] + R(theta_A) point_a        the vertex of A (the contact point)
     x_b = pos[B] + R(theta_B) point_b        a point on B's face (coincident with x_a at creation)
-    n   = common_normal(normal_a, normal_b)  unit normal from A into B: B's face normal for a
+    n   = contact_normal(face, normal_b)     unit normal from A into B: B's face normal for a
                                              vertex against a face, the bisector of both faces'
                                              normals for two faces (both blocks agree on it)
     t   = (-n_y, n_x)
@@ -33,7 +33,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from .kinematics import common_normal
+from .kinematics import contact_normal
 
 __all__ = ["Contacts", "INTACT", "TENSION", "SHEAR", "UNBONDED", "ANCHOR_A", "ANCHOR_B",
            "ANCHOR_MID", "initial_contacts"]
@@ -44,10 +44,10 @@ ANCHOR_A, ANCHOR_B, ANCHOR_MID = 0, 1, 2
 INTACT, TENSION, SHEAR, UNBONDED = 0, 1, 2, 3   # UNBONDED: made by the search, never bonded
 
 
-_VECTORS = ("point_a", "point_b", "normal_a", "normal_b")
+_VECTORS = ("point_a", "point_b", "normal_b")
 _DTYPES = {"block_a": np.int32, "block_b": np.int32, "vertex_a": np.int32,
            "edge_b": np.int32, "material": np.int32, "broken": np.int8, "slipping": np.int8,
-           "anchor": np.int8}
+           "anchor": np.int8, "face": np.int8}
 
 
 class Contacts(NamedTuple):
@@ -57,8 +57,10 @@ class Contacts(NamedTuple):
     vertex_a : (cap,) int32. Global vertex index of A's vertex, -1 if the point is not a vertex.
     edge_b : (cap,) int32. Global index of the first vertex of B's face, -1 if unknown.
     point_a, point_b : (cap, 2) float64, m. Local geometry (module docstring).
-    normal_a, normal_b : (cap, 2) float64. The A -> B direction fixed in A (a face contact;
-        (0, 0) for a vertex against a face) and fixed in B (``kinematics.common_normal``).
+    normal_b : (cap, 2) float64. The A -> B direction fixed in B (for a face contact also A's
+        face normal in A's frame: both were made unrotated; ``kinematics.contact_normal``).
+    face : (cap,) int8. 1 for two faces in contact (the bisector normal), 0 for a vertex
+        against a face (the face's normal).
     anchor : (cap,) int8. Which point the contact follows when it slips or opens: ANCHOR_A
         (A's vertex), ANCHOR_B (the point is a vertex of B), ANCHOR_MID (neither: midway).
     length : (cap,) float64, m. Length the contact represents.
@@ -83,8 +85,8 @@ class Contacts(NamedTuple):
     edge_b: np.ndarray
     point_a: np.ndarray
     point_b: np.ndarray
-    normal_a: np.ndarray
     normal_b: np.ndarray
+    face: np.ndarray
     anchor: np.ndarray
     length: np.ndarray
     kn: np.ndarray
@@ -151,11 +153,11 @@ class Contacts(NamedTuple):
         p = self.point_a[:self.n]
         return pos[a] + np.column_stack([c * p[:, 0] - s * p[:, 1], s * p[:, 0] + c * p[:, 1]])
 
-    def normal(self, rot) -> np.ndarray:
-        """(n, 2) world unit normal of each contact, from A into B (``common_normal``)."""
-        a, b = self.block_a[:self.n], self.block_b[:self.n]
+    def normal(self, s) -> np.ndarray:
+        """(n, 2) world unit normal of each contact from A into B at the pose ``s``
+        (BlockState; ``kinematics.contact_normal``)."""
         out = np.empty((self.n, 2))
-        _normals(self.n, a, b, self.normal_a, self.normal_b, rot, out)
+        _normals(self, s, out)
         return out
 
     def to_dict(self) -> dict:
@@ -175,10 +177,10 @@ ARRAYS = tuple(f for f in Contacts._fields if f != "count")
 
 
 @njit(cache=True)
-def _normals(n, block_a, block_b, normal_a, normal_b, rot, out):
-    for k in range(n):
-        out[k, 0], out[k, 1] = common_normal(rot, block_a[k], block_b[k], normal_a[k, 0],
-                                             normal_a[k, 1], normal_b[k, 0], normal_b[k, 1])
+def _normals(c, s, out):
+    for k in range(out.shape[0]):
+        out[k, 0], out[k, 1] = contact_normal(s, c.block_a[k], c.block_b[k], c.face[k],
+                                              c.normal_b[k, 0], c.normal_b[k, 1])
 
 
 @njit(cache=True)
@@ -242,7 +244,7 @@ def initial_contacts(bs, headroom: float = 1.5) -> Contacts:
     c.point_a[:m] = pts - cent[ca]
     c.point_b[:m] = pts - cent[cb]
     c.normal_b[:m] = nrm
-    c.normal_a[:m] = nrm              # face against face: both blocks unrotated at the start
+    c.face[:m] = 1                    # face against face: both blocks unrotated at the start
     c.anchor[:m] = np.where(va >= 0, ANCHOR_A, np.where(vb, ANCHOR_B, ANCHOR_MID))
     c.length[:m] = 0.5 * np.repeat(np.asarray(bs.edge_length, np.float64), 2)
     c.material[:m] = np.repeat(np.asarray(bs.edge_material), 2)

@@ -31,7 +31,7 @@ import numpy as np
 from numba import njit
 
 from .contacts import ANCHOR_A, INTACT, UNBONDED, Contacts
-from .kinematics import body_point, common_normal
+from .kinematics import body_point, contact_normal
 
 __all__ = ["update_contacts", "compact", "block_containing", "world_vertices", "grid_pairs",
            "SUPPORT_SLOPE"]
@@ -60,8 +60,7 @@ def _displacements(c, s, rows):
         a, b = c.block_a[k], c.block_b[k]
         xa, ya = body_point(s.pos, s.rot, a, c.point_a[k, 0], c.point_a[k, 1])
         xb, yb = body_point(s.pos, s.rot, b, c.point_b[k, 0], c.point_b[k, 1])
-        nx, ny = common_normal(s.rot, a, b, c.normal_a[k, 0], c.normal_a[k, 1],
-                               c.normal_b[k, 0], c.normal_b[k, 1])
+        nx, ny = contact_normal(s, a, b, c.face[k], c.normal_b[k, 0], c.normal_b[k, 1])
         un[i] = (xb - xa) * nx + (yb - ya) * ny
         us[i] = (yb - ya) * nx - (xb - xa) * ny
     return un, us
@@ -421,7 +420,7 @@ def update_contacts(c: Contacts, s, p, table, new_material: int, margin: float):
         new.point_b[r] = point_b
         new.normal_b[r] = normal_b
         new.length[r] = L
-        new.normal_a[r] = 0.0                     # a vertex against a face
+        new.face[r] = 0                           # a vertex against a face
         new.anchor[r] = ANCHOR_A
         new.material[r] = _touched_material(p, table, new_material, cand)
         new.broken[r] = UNBONDED
@@ -481,8 +480,7 @@ def _survives_kernel(c, s, p, edge_end, bonded, wv, margin, slope):
     for k in range(nc):
         a, b = c.block_a[k], c.block_b[k]
         xa, ya = body_point(s.pos, s.rot, a, c.point_a[k, 0], c.point_a[k, 1])
-        nx, ny = common_normal(s.rot, a, b, c.normal_a[k, 0], c.normal_a[k, 1],
-                               c.normal_b[k, 0], c.normal_b[k, 1])
+        nx, ny = contact_normal(s, a, b, c.face[k], c.normal_b[k, 0], c.normal_b[k, 1])
         px[k], py[k], qx[k], qy[k] = xa, ya, nx, ny
         if not (p.active[a] and p.active[b]):
             continue

@@ -10,7 +10,7 @@ from numba import njit
 from numba.core.errors import NumbaPerformanceWarning
 
 from .contacts import ANCHOR_A, ANCHOR_B, ANCHOR_MID
-from .kinematics import body_point, common_normal, unrotate
+from .kinematics import body_point, contact_normal, unrotate
 from .law import coulomb_law
 
 __all__ = ["add_contact_forces", "contact_update", "log_crack"]
@@ -28,8 +28,7 @@ def contact_update(k, c, strength, s):
     b = c.block_b[k]
     xa, ya = body_point(s.pos, s.rot, a, c.point_a[k, 0], c.point_a[k, 1])
     xb, yb = body_point(s.pos, s.rot, b, c.point_b[k, 0], c.point_b[k, 1])
-    nx, ny = common_normal(s.rot, a, b, c.normal_a[k, 0], c.normal_a[k, 1], c.normal_b[k, 0],
-                           c.normal_b[k, 1])
+    nx, ny = contact_normal(s, a, b, c.face[k], c.normal_b[k, 0], c.normal_b[k, 1])
     u_n = (xb - xa) * nx + (yb - ya) * ny
     u_s = (yb - ya) * nx - (xb - xa) * ny
     s_n, t_s, sn_e, slip, event = coulomb_law(u_n - c.un[k], u_s - c.us[k], c.sn_elastic[k],
@@ -40,11 +39,11 @@ def contact_update(k, c, strength, s):
     c.sn_elastic[k] = sn_e
     c.un[k] = u_n
     c.us[k] = u_s
-    c.up[k] += slip
     c.slipping[k] = 1 if (event == 2 or event == 3) else 0
-    if event == 1 or event == 2:
-        c.broken[k] = event
-    if event != 0:
+    if event != 0:                         # (rare: the elastic path writes no more than this)
+        c.up[k] += slip
+        if event == 1 or event == 2:
+            c.broken[k] = event
         _reanchor(k, c, s, xa, ya, xb, yb, u_n, nx, ny)
     # the point the force acts at
     anchor = c.anchor[k]

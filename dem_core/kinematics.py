@@ -1,7 +1,7 @@
 """Rigid-body kinematics of the blocks: small inlined functions used by every kernel.
 
 A block's pose is its centroid ``pos[b]`` and rotation ``theta[b]`` (counter-clockwise, rad),
-kept with ``rot[b] = (cos theta, sin theta)``. A body point with local coordinates ``r``
+kept with ``rot[b] = (cos theta, sin theta)`` and ``rot_half[b]`` (the same of theta / 2). A body point with local coordinates ``r``
 (relative to the centroid, in the block's frame at theta = 0) is at ``x = pos + R r`` and moves
 with ``v = vel + omega k x (x - pos)``; a direction ``d`` fixed in the block (a face normal) is
 ``R d`` in the world::
@@ -16,7 +16,7 @@ import math
 from numba import njit
 
 __all__ = ["body_point", "rotate", "unrotate", "point_velocity", "update_rotation",
-           "common_normal"]
+           "contact_normal"]
 
 
 @njit(cache=True, inline="always")
@@ -47,28 +47,29 @@ def point_velocity(pos, vel, omega, b, x, y):
 
 
 @njit(cache=True, inline="always")
-def common_normal(rot, a, b, na_x, na_y, nb_x, nb_y):
+def contact_normal(s, a, b, face, nb_x, nb_y):
     """Unit contact normal from A into B, the same whichever block is called A.
 
-    ``(nb_x, nb_y)``: the A -> B direction fixed in B (minus the outward normal of B's face);
-    ``(na_x, na_y)``: the same direction fixed in A (A's face's outward normal) for a contact
-    between two faces, (0, 0) for a vertex of A against a face of B. Two faces in contact share
-    the bisector of their normals (both blocks agree on it, as 3DEC's common plane); a vertex
-    against a face takes the face's normal.
+    ``(nb_x, nb_y)``: the A -> B direction fixed in B (minus the outward normal of B's face),
+    equal to A's face's outward normal in A's frame for two faces in contact (``face`` = 1:
+    both were made with the blocks unrotated). A vertex against a face takes the face's normal,
+    R(theta_B) n; two faces take the bisector of their normals, R((theta_A + theta_B) / 2) n
+    = R(theta_A / 2) R(theta_B / 2) n (both blocks agree on it, as 3DEC's common plane), from
+    the half-angle rotations ``s.rot_half`` (no square root in the contact loop).
     """
-    nx, ny = rotate(rot, b, nb_x, nb_y)
-    if na_x == 0.0 and na_y == 0.0:
-        return nx, ny
-    mx, my = rotate(rot, a, na_x, na_y)
-    nx += mx
-    ny += my
-    ln = math.hypot(nx, ny)
-    return nx / ln, ny / ln
+    if face == 0:
+        return rotate(s.rot, b, nb_x, nb_y)
+    x, y = rotate(s.rot_half, b, nb_x, nb_y)
+    return rotate(s.rot_half, a, x, y)
 
 
 @njit(cache=True)
-def update_rotation(theta, rot):
-    """rot[i] = (cos theta_i, sin theta_i) for every block."""
+def update_rotation(theta, rot, rot_half):
+    """rot[i] = (cos theta_i, sin theta_i), rot_half[i] the same of theta_i / 2, every block."""
     for i in range(theta.shape[0]):
-        rot[i, 0] = math.cos(theta[i])
-        rot[i, 1] = math.sin(theta[i])
+        ch = math.cos(0.5 * theta[i])
+        sh = math.sin(0.5 * theta[i])
+        rot_half[i, 0] = ch
+        rot_half[i, 1] = sh
+        rot[i, 0] = ch * ch - sh * sh          # double-angle: two trig calls per block, not four
+        rot[i, 1] = 2.0 * sh * ch

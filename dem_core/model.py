@@ -187,7 +187,7 @@ class Model:
         c, st = self.contacts, self.state
         a, b, m = c.block_a[rows], c.block_b[rows], c.material[rows]
         xa = c.position(st.pos, st.rot)[rows]
-        n = c.normal(st.rot)[rows]
+        n = c.normal(st)[rows]
         h_a = np.abs(((xa - st.pos[a]) * n).sum(axis=1))
         h_b = np.abs(((xa - st.pos[b]) * n).sum(axis=1))
         c.kn[rows], c.ks[rows] = series_stiffness(self.table.kn[m], self.table.ks[m], h_a, h_b,

@@ -72,6 +72,7 @@ class BlockState(NamedTuple):
     pos : (nb, 2) float64, m. Centroid.
     theta : (nb,) float64, rad. CCW rotation from the initial orientation.
     rot : (nb, 2) float64. (cos theta, sin theta), kept with theta (``kinematics``).
+    rot_half : (nb, 2) float64. (cos theta/2, sin theta/2): the common normal of two faces.
     vel : (nb, 2) float64, m/s. Centroid velocity at the last half step (leapfrog).
     omega : (nb,) float64, rad/s. Angular velocity at the last half step.
     force : (nb, 3) float64. Unbalanced force (N/m) and moment (N m/m) of the last step,
@@ -83,6 +84,7 @@ class BlockState(NamedTuple):
     pos: np.ndarray
     theta: np.ndarray
     rot: np.ndarray
+    rot_half: np.ndarray
     vel: np.ndarray
     omega: np.ndarray
     force: np.ndarray
@@ -155,9 +157,10 @@ def state_at_rest(centroid) -> BlockState:
     """Blocks at their centroids, unrotated and still."""
     c = np.array(centroid, dtype=np.float64)
     nb = c.shape[0]
-    rot = np.zeros((nb, 2))
-    update_rotation(np.zeros(nb), rot)
-    return BlockState(pos=c.copy(), theta=np.zeros(nb), rot=rot, vel=np.zeros((nb, 2)),
+    rot, rot_half = np.zeros((nb, 2)), np.zeros((nb, 2))
+    update_rotation(np.zeros(nb), rot, rot_half)
+    return BlockState(pos=c.copy(), theta=np.zeros(nb), rot=rot, rot_half=rot_half,
+                      vel=np.zeros((nb, 2)),
                       omega=np.zeros(nb), force=np.zeros((nb, 3)), pos0=c.copy(),
                       theta0=np.zeros(nb), pos_search=c.copy(), theta_search=np.zeros(nb))
 

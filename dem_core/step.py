@@ -73,7 +73,7 @@ def run_steps(nsteps, time, integ, s, p, c, strength, cracks, par, gravity, load
         status, bad = advance(s, p, integ, kick)
         if status == UNSTABLE:
             return step, time, UNSTABLE, bad
-        update_rotation(s.theta, s.rot)
+        update_rotation(s.theta, s.rot, s.rot_half)
         time += integ.dt
         kinetic_damping(integ, s, p)
         if status == NEED_SEARCH:
