@@ -9,7 +9,7 @@ import warnings
 from numba import njit
 from numba.core.errors import NumbaPerformanceWarning
 
-from .contacts import ANCHOR_A, ANCHOR_B, ANCHOR_MID
+from .contacts import ANCHOR_A, ANCHOR_B
 from .kinematics import body_point, contact_normal, unrotate
 from .law import coulomb_law
 

@@ -25,7 +25,7 @@ from .contacts import initial_contacts, surface_materials
 from .elastic import series_stiffness
 from .materials import Material, material_table
 from .parallel import no_parallel, parallel_bundle
-from .state import (FIX_ROT, FIX_X, FIX_Y, CrackLog, Integrator, block_props, copy_bundle,
+from .state import (FIX_ROT, FIX_X, FIX_Y, CrackLog, Integrator, block_props,
                     state_at_rest)
 
 __all__ = ["Model", "ModelUnstable"]

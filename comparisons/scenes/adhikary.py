@@ -32,8 +32,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from dem_core.geometry import (GeometrySpec, JointSet, Region, Voronoi, build_block_system,
-                               slope_profile)
+from dem_core.geometry import GeometrySpec, JointSet, Region, Voronoi, slope_profile
 from dem_core.materials import Material
 from dem_core.model import Model
 from dem_core.scene import Scene

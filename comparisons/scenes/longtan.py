@@ -68,8 +68,8 @@ import numpy as np
 import shapely
 from shapely.geometry import Polygon
 
-from dem_core.geometry import (GeometrySpec, JointSet, Region, Voronoi, build_block_system,
-                               slope_profile, zone_polygon_along_face)
+from dem_core.geometry import (GeometrySpec, JointSet, Region, Voronoi, slope_profile,
+                               zone_polygon_along_face)
 from dem_core.materials import Material
 from dem_core.model import Model
 from dem_core.scene import Scene
