@@ -461,7 +461,7 @@ class Model:
             return no_parallel()
         import numba
         numba.set_num_threads(self.threads)
-        return parallel_bundle(self.contacts, self.n_blocks)
+        return parallel_bundle(self.contacts, self.n_blocks, self.threads)
 
     def _integrator(self):
         half = 0.5 * self.search_margin if self.search_enabled else math.inf

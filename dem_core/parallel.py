@@ -3,7 +3,8 @@
 The serial kernel (``forces.add_contact_forces``) adds each contact's force to its two blocks as
 it goes: in a parallel loop that is a write race. Here the work is split in three passes:
 
-1. every contact (in parallel, by chunks of ``CHUNK``): geometry, the law, its force and point,
+1. every contact (in parallel, by chunks: about ``CHUNKS_PER_THREAD`` per thread): geometry,
+   the law, its force and point,
    stored per contact;
 2. the crack log (serially, in contact order, so the log is the same as the serial one);
 3. every block (in parallel): the sum of its contacts' forces in contact order, read through a
@@ -31,24 +32,27 @@ class Parallel(NamedTuple):
     work : (nc, 4) float64. Per contact: force on B (N/m) and contact point (m).
     events : (nc,) int64. Per contact: the law's event.
     offsets : (nb + 1,) int64, entries : (2 nc,) int64. ``contact_table``.
+    chunk : int. Contacts per chunk of the first pass (0 when serial).
     """
 
     work: np.ndarray
     events: np.ndarray
     offsets: np.ndarray
     entries: np.ndarray
+    chunk: int
 
 
 def no_parallel() -> Parallel:
     """The empty bundle: the step runs the serial kernel."""
     return Parallel(np.zeros((0, 4)), np.zeros(0, np.int64), np.zeros(0, np.int64),
-                    np.zeros(0, np.int64))
+                    np.zeros(0, np.int64), 0)
 
 
-def parallel_bundle(c, nb) -> Parallel:
-    """Scratch and table for the live contacts of ``c`` among ``nb`` blocks."""
+def parallel_bundle(c, nb, threads) -> Parallel:
+    """Scratch and table for the live contacts of ``c`` among ``nb`` blocks, on ``threads``."""
     offsets, entries = contact_table(c.count[0], c.block_a, c.block_b, nb)
-    return Parallel(np.empty((c.n, 4)), np.empty(c.n, np.int64), offsets, entries)
+    chunk = max(MIN_CHUNK, -(-c.n // (CHUNKS_PER_THREAD * threads)))
+    return Parallel(np.empty((c.n, 4)), np.empty(c.n, np.int64), offsets, entries, chunk)
 
 
 @njit(cache=True)
@@ -90,8 +94,9 @@ def contact_range(c, strength, s, work, events, k0, k1):
         work[k, 3] = ya
 
 
-# contacts per chunk of the first pass (a chunk is one call, and a thread's unit of work)
-CHUNK = 256
+# chunks of the first pass per thread (a chunk is one call, and a thread's unit of work), and
+# the fewest contacts in a chunk
+CHUNKS_PER_THREAD, MIN_CHUNK = 8, 256
 
 
 @njit(cache=True, parallel=True)
@@ -99,8 +104,9 @@ def add_contact_forces_parallel(c, strength, s, cracks, time, par):
     """Same inputs and effect as ``forces.add_contact_forces``, with the ``Parallel`` bundle."""
     work, events = par.work, par.events
     nc = c.count[0]
-    for j in prange((nc + CHUNK - 1) // CHUNK):
-        contact_range(c, strength, s, work, events, j * CHUNK, min(nc, (j + 1) * CHUNK))
+    chunk = par.chunk
+    for j in prange(-(-nc // chunk)):
+        contact_range(c, strength, s, work, events, j * chunk, min(nc, (j + 1) * chunk))
     for k in range(nc):                      # the crack log, in contact order
         event = events[k]
         if event == 1 or event == 2:
