@@ -123,3 +123,16 @@ def test_the_stored_adhikary_scene_file_is_the_modules_base_run():
     from pathlib import Path
     stored = Scene.load(Path(adhikary.__file__).with_name("adhikary.json"))
     assert stored.to_dict() == adhikary.base_run().to_dict()
+
+
+def test_the_lajtai_specimens_are_scenes_that_round_trip(tmp_path):
+    from comparisons.scenes import lajtai
+
+    p = lajtai.FlawParams(edge_length=0.01)
+    for sc in (lajtai.ucs_scene(p), lajtai.shear_scene(p, lajtai.ShearParams("closed", 0.5))):
+        sc.save(tmp_path / "s.json")
+        again = Scene.load(tmp_path / "s.json")
+        assert again.to_dict() == sc.to_dict()
+        m = build_model(again)
+        fixed = m.group(sc.boundaries[0].group)
+        assert np.all(m.props.fixity[fixed] == 7) and np.count_nonzero(m.props.fixity) == fixed.size

@@ -44,6 +44,8 @@ import numpy as np
 from dem_core.geometry import (GeometrySpec, JointLine, Region, Voronoi, build_block_system,
                                rectangle)
 from dem_core.materials import Material
+from dem_core.scene import Boundary, Scene
+from dem_core.scene import build_model as build_scene_model
 
 # Thesis Table 3.1 (plaster of Paris) and 3.5.
 THESIS_TENSILE = 1.1e6
@@ -209,29 +211,44 @@ def stiffness_for_edge(p: FlawParams, edge: float) -> FlawParams:
     return p.with_(edge_length=edge, kn=p.kn * f, ks=p.ks * f)
 
 
-def model_options(p: FlawParams, safety=0.5) -> dict:
-    """Model keywords shared by the lab scenes: quasi-static (mass scaling, local damping 0.8),
-    deformable blocks in series with the contacts."""
-    return dict(density=DENSITY, block_E=p.block_E, block_nu=p.block_nu, mass_scaling=True,
-                damping=0.8, safety=safety)
+def _solver(safety=0.5) -> dict:
+    """Solver options shared by the lab scenes: quasi-static (mass scaling, local damping 0.8);
+    the blocks are deformable in series with the contacts (the scenes' block_E, block_nu)."""
+    return dict(mass_scaling=True, damping=0.8, safety=safety)
+
+
+def ucs_scene(p: FlawParams, width=UCS_WIDTH, height=UCS_HEIGHT, glued_platens=False,
+              safety=0.5) -> Scene:
+    """The compression (or, glued, tension) specimen between its platens as a scene: the lower
+    platen fixed (the loading path, ``comparisons.lab``, moves the upper one)."""
+    return Scene(ucs_geometry(p, width, height), ucs_materials(p, glued_platens),
+                 density=DENSITY, block_E=p.block_E, block_nu=p.block_nu,
+                 boundaries=[Boundary("platen_bottom")], solver=_solver(safety),
+                 name="lajtai ucs" if not glued_platens else "lajtai tension")
 
 
 def ucs_model(p: FlawParams, width=UCS_WIDTH, height=UCS_HEIGHT, glued_platens=False,
               safety=0.5, blocks=None):
-    """The compression (or, glued, tension) specimen as a Model, and its side-block indices."""
-    from dem_core.model import Model
-
-    bs = build(ucs_geometry(p, width, height)) if blocks is None else blocks
-    m = Model(bs, ucs_materials(p, glued_platens), **model_options(p, safety))
+    """The compression (or, glued, tension) specimen as a Model (built from ``ucs_scene``),
+    and its side-block indices."""
+    sc = ucs_scene(p, width, height, glued_platens, safety)
+    bs = build(sc.geometry) if blocks is None else blocks
+    m = build_scene_model(sc, bs)
     tol = 1e-6 * width
     return m, side_blocks(bs, 0.0, tol), side_blocks(bs, width, tol)
 
 
-def shear_model(p: FlawParams, s: ShearParams, safety=0.5, blocks=None):
-    """The direct-shear specimen in its box as a Model (new contacts get the flaws' residual
-    strength)."""
-    from dem_core.model import Model
+def shear_scene(p: FlawParams, s: ShearParams, safety=0.5) -> Scene:
+    """The direct-shear specimen in its box as a scene: the lower box fixed (the loading path,
+    ``comparisons.lab.direct_shear``, servo-controls the upper box and moves the lower one);
+    new contacts get the flaws' residual strength."""
+    return Scene(shear_geometry(p, s), shear_materials(p, s), density=DENSITY,
+                 block_E=p.block_E, block_nu=p.block_nu, boundaries=[Boundary("box_low")],
+                 solver=dict(_solver(safety), new_contact_material="flaw:rock"),
+                 name="lajtai direct shear")
 
-    bs = build(shear_geometry(p, s)) if blocks is None else blocks
-    return Model(bs, shear_materials(p, s), new_contact_material="flaw:rock",
-                 **model_options(p, safety))
+
+def shear_model(p: FlawParams, s: ShearParams, safety=0.5, blocks=None):
+    """The direct-shear specimen in its box as a Model (built from ``shear_scene``)."""
+    sc = shear_scene(p, s, safety)
+    return build_scene_model(sc, build(sc.geometry) if blocks is None else blocks)
