@@ -53,7 +53,7 @@ def contact_update(k, c, strength, s):
     return L * (s_n * nx - t_s * ny), L * (s_n * ny + t_s * nx), px, py, event
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)        # not inlined: rare (slip or opening), kept out of the hot loop's code
 def _reanchor(k, c, s, xa, ya, xb, yb, u_n, nx, ny):
     """Move the free point(s) of slipping or open contact k across the normal from its anchor
     (x_b - x_a = u_n n, so the tangential offset is zero again)."""
@@ -74,7 +74,7 @@ def _reanchor(k, c, s, xa, ya, xb, yb, u_n, nx, ny):
     c.us[k] = 0.0
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)        # not inlined: rare, kept out of the hot loop's code
 def log_crack(cracks, time, xa, ya, event, a, b, m):
     """Append a failure to the CrackLog (rows [time, x, y, mode, block_a, block_b, material])."""
     i = cracks.count[0]
