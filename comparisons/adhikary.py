@@ -62,7 +62,7 @@ VARIANTS = {
     # bisected to 10 g, every study at one value (about 4 minutes on 2 cores; the test suite
     # runs it and asserts the trends)
     "quick": dict(edge_length=0.006, relax_iterations=10, g_levels=list(range(40, 241, 40)),
-                  refine_to=10.0, max_steps=40_000, tensile=[1.1, 0.8, 1.4], frictions=[25.0],
+                  refine_to=10.0, max_steps=40_000, tensile=[1.1e6, 0.8e6, 1.4e6], frictions=[25.0],
                   bedding_cohesion=[5e3], conventional=True, continuum=True,
                   continuum_h=0.012, workers=2, threads=1),
     # full: every run of the thesis (T = 0.8..1.4 MPa in 0.1 steps, flaw friction 32 and 25,
@@ -72,7 +72,7 @@ VARIANTS = {
     # separate study, not this variant.
     "full": dict(edge_length=0.006, relax_iterations=10, g_levels=list(range(10, 301, 10)),
                  refine_to=1.0, max_steps=40_000,
-                 tensile=[1.1, 0.8, 0.9, 1.0, 1.2, 1.3, 1.4], frictions=[32.0, 25.0],
+                 tensile=[1.1e6, 0.8e6, 0.9e6, 1.0e6, 1.2e6, 1.3e6, 1.4e6], frictions=[32.0, 25.0],
                  bedding_cohesion=[5e3], conventional=True, continuum=True,
                  continuum_h=0.006, workers=2, threads=1),
 }
@@ -118,7 +118,7 @@ def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
     progress(f"{len(members)} DEM runs (g-levels {v['g_levels'][0]}..{v['g_levels'][-1]})")
     runs = run_sweep(run_member, members, workers=v["workers"], progress=progress)
     by_label = {r["label"]: r for r in runs}
-    tensile_runs = [by_label[f"T={t}"] for t in v["tensile"]]
+    tensile_runs = [by_label[centrifuge.tensile_label(t)] for t in v["tensile"]]
     base_run = by_label.get("T=1.1", tensile_runs[0])
     result.methods["dem"] = {
         "failure_g": [[r["params"]["flaw_tensile"] / MPA, r["failure_g"]] for r in tensile_runs],

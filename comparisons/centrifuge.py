@@ -28,10 +28,15 @@ DAMPING = 0.0
 KINETIC_DAMPING = 100
 
 
+def tensile_label(tensile: float) -> str:
+    """A run's label from its flaw tensile strength (Pa): "T=1.1" (MPa)."""
+    return f"T={tensile / 1e6:g}"
+
+
 def ramp_members(v: dict, seed: int, **studies) -> list:
     """The sweep members of a centrifuge case's variant ``v`` (VARIANTS entry): the
     conventional run first if ``v["conventional"]`` (the longest: it does not fail early), then
-    one run per flaw tensile strength in ``v["tensile"]`` (MPa), then one per value of each
+    one run per flaw tensile strength in ``v["tensile"]`` (Pa; label ``tensile_label``), then one per value of each
     ``studies`` entry: label format -> (parameter name, values in the parameter's units, and
     optionally a divisor for the label), e.g. ``{"flaw friction {:g}": ("flaw_friction",
     [25.0])}`` or ``{"bedding c {:g} kPa": ("bedding_cohesion", [5e3], 1e3)}``."""
@@ -42,7 +47,7 @@ def ramp_members(v: dict, seed: int, **studies) -> list:
     if v["conventional"]:
         members.append(dict(label="conventional", params=dict(base, conventional=True),
                             **common))
-    members += [dict(label=f"T={t}", params=dict(base, flaw_tensile=t * 1e6), **common)
+    members += [dict(label=tensile_label(t), params=dict(base, flaw_tensile=t), **common)
                 for t in v["tensile"]]
     for label, (name, values, *divisor) in studies.items():
         scale = divisor[0] if divisor else 1.0

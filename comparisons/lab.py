@@ -1,7 +1,9 @@
 """Virtual rock-mechanics lab on DEM specimens: compression, tension, direct shear, calibration.
 
 Every test drives rigid loading parts (platens, shear-box halves; groups of a ``Model``) and
-reads the force the specimen exerts on them (``contact_force``). Conventions: SI units;
+reads the force the specimen exerts on them. Each loading path is a list of stages
+(``dem_core.loading``: ``Load``, ``ServoLoad``) that a scene file can carry; the ``*_test``
+functions run them on a model and return the curve. Conventions: SI units;
 compressive stress and strain positive; shear stress positive in the direction the lower box
 moves (+x), read on the stationary box. Strains are platen displacement over specimen
 height; the lateral strain of the compression test is the change of distance between the
@@ -26,9 +28,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from dem_core.elastic import spacing_from_area
+from dem_core.loading import Load, ServoLoad
 from dem_core.model import Model
+from dem_core.stages import run_stages
 
-__all__ = ["LabCurve", "contact_force", "compression_test", "tension_test", "direct_shear",
+__all__ = ["LabCurve", "contact_force", "compression_load", "tension_load", "shear_stages",
+           "curve_of", "compression_test", "tension_test", "direct_shear",
            "elastic_moduli", "calibrate_cohesion", "stiffness_for_moduli",
            "calibrate_stiffness", "plane_strain", "rate_check"]
 
@@ -73,137 +78,98 @@ def contact_force(model: Model, group) -> np.ndarray:
     return model.state.force[idx, :2].sum(axis=0)
 
 
-def _mean_x(model, idx):
-    return float(model.state.pos[idx, 0].mean())
+# ---------------------------------------------------------------------------- loading paths
+def compression_load(width: float, height: float, rate: float, gauge=(), max_strain=0.05,
+                     post_peak=0.7, chunk=200) -> Load:
+    """The unconfined compression path as a stage: ``platen_top`` moves down at ``rate``
+    m/step (no rotation, no sideways motion) against ``platen_bottom`` (fixed by the scene);
+    the stress is the mean of the two platens' reactions over ``width``; ``gauge``: the two
+    side groups whose x distance gives the lateral strain. Stops at ``max_strain`` or once the
+    stress fell below ``post_peak`` x peak."""
+    return Load("platen_top", rate, (0.0, -1.0), read_on=("platen_top", "platen_bottom"),
+                length=width, max_displacement=max_strain * height, post_peak=post_peak,
+                gauge=tuple(gauge), chunk=chunk)
 
 
-def compression_test(model: Model, width: float, height: float, rate: float,
-                     left=None, right=None, max_strain=0.05, post_peak=0.7, chunk=200,
-                     keep_model=False) -> LabCurve:
-    """Unconfined compression between ``platen_bottom`` (fixed) and ``platen_top`` (moving
-    down at ``rate`` m/step, no rotation, no sideways motion).
+def tension_load(width: float, height: float, rate: float, max_strain=0.02, post_peak=0.5,
+                 chunk=200) -> Load:
+    """Direct tension as a stage: ``platen_top`` (glued) pulled up at ``rate`` m/step."""
+    return Load("platen_top", rate, (0.0, 1.0), read_on=("platen_top", "platen_bottom"),
+                length=width, max_displacement=max_strain * height, post_peak=post_peak,
+                chunk=chunk)
 
-    Parameters
-    ----------
-    model : Model with groups "platen_bottom", "platen_top".
-    width, height : float, m. Specimen size (stress = force / width, strain = shortening / height).
-    rate : float, m per time step.
-    left, right : index arrays of side blocks for the lateral strain (optional).
-    max_strain : stop at this axial strain.
-    post_peak : stop once the stress has fallen below this fraction of the peak.
-    chunk : steps between records.
+
+def shear_stages(length: float, normal_stress: float, rate: float, max_displacement: float,
+                 post_peak=0.8, chunk=200, settle_tol=0.02, max_settle_steps=40_000) -> list:
+    """Direct shear at constant normal stress as two stages.
+
+    1. ``box_up`` is servo-controlled in -y to press with ``normal_stress x length`` (N/m),
+       held in x and rotation, at most 20 x the shear rate, until the load is reached within
+       ``settle_tol`` (consolidation).
+    2. ``box_low`` (fixed by the scene) moves in +x at ``rate`` m/step; the shear stress is
+       the x force on the stationary upper box over ``length``, like a load cell on the
+       reaction side: the force on the moving half also holds what accelerates the lower half
+       of the specimen when the box starts (times 1 / (1 - damping) with local damping), a
+       start-up transient of up to +45 % of the friction line at sn = 0.3 MPa in the fully
+       jointed (k = 1) specimen. Stops at ``max_displacement`` or when the shear stress fell
+       below ``post_peak`` x peak beyond 1.5 x the displacement at the peak.
     """
+    if not (normal_stress >= 0 and math.isfinite(normal_stress)):
+        raise ValueError(f"normal stress must be finite and >= 0 Pa, got {normal_stress!r}")
+    return [ServoLoad("box_up", normal_stress, length, (0.0, -1.0), v_max=20.0 * rate,
+                      settle_tol=settle_tol, max_steps=max_settle_steps, chunk=chunk),
+            Load("box_low", rate, (1.0, 0.0), read_on=("box_up",), length=length,
+                 max_displacement=max_displacement, post_peak=post_peak, past_peak=1.5,
+                 chunk=chunk)]
+
+
+def curve_of(record, model: Model, t0: float, scale_x=1.0, lateral="gauge", scale_lateral=1.0,
+             keep_model=False) -> LabCurve:
+    """A LabCurve from a ``Load`` stage's record: x = displacement x ``scale_x`` (1/height for
+    a strain), y = reaction, lateral = ``record.detail[lateral]`` x ``scale_lateral``."""
+    det = record.detail
+    x, y = det["displacement"] * scale_x, det["reaction"]
+    i = int(np.argmax(y))
+    return LabCurve(x=x, y=y, time=det["time"], lateral=det[lateral] * scale_lateral,
+                    peak=float(y[i]), x_at_peak=float(x[i]), steps=int(model.step),
+                    runtime_s=time.perf_counter() - t0, dt=float(model.dt),
+                    n_blocks=int(model.n_blocks), cracks=model.crack_counts(),
+                    model=model if keep_model else None)
+
+
+def compression_test(model: Model, width: float, height: float, rate: float, gauge=(),
+                     max_strain=0.05, post_peak=0.7, chunk=200, keep_model=False) -> LabCurve:
+    """Unconfined compression (``compression_load``) on a model with groups "platen_bottom"
+    (fixed here) and "platen_top": axial strain, stress (Pa) and lateral strain."""
     t0 = time.perf_counter()
-    m = model
-    m.fix("platen_bottom")
-    top = m.group("platen_top")
-    bot = m.group("platen_bottom")
-    y0 = float(m.state.pos[top, 1].mean())
-    w0 = None if left is None else _mean_x(m, right) - _mean_x(m, left)
-    strain, stress, lateral, times = [0.0], [0.0], [0.0], [m.time]
-    while True:
-        m.set_velocity("platen_top", vx=0.0, vy=-rate / m.dt)   # dt may change after searches
-        m.cycle(chunk)
-        f_top, f_bot = contact_force(m, top), contact_force(m, bot)
-        times.append(m.time)
-        strain.append((y0 - float(m.state.pos[top, 1].mean())) / height)
-        stress.append(0.5 * (f_top[1] - f_bot[1]) / width)
-        if w0 is not None:
-            lateral.append(((_mean_x(m, right) - _mean_x(m, left)) - w0) / width)
-        else:
-            lateral.append(0.0)
-        peak = max(stress)
-        if strain[-1] > max_strain or (stress[-1] < post_peak * peak and peak > 0):
-            break
-    return _curve(strain, stress, times, lateral, m, t0, keep_model)
+    model.fix("platen_bottom")
+    rec = run_stages(model, [compression_load(width, height, rate, gauge, max_strain,
+                                              post_peak, chunk)])[-1]
+    return curve_of(rec, model, t0, 1.0 / height, "gauge", 1.0 / width, keep_model)
 
 
 def tension_test(model: Model, width: float, height: float, rate: float, max_strain=0.02,
                  post_peak=0.5, chunk=200, keep_model=False) -> LabCurve:
-    """Direct tension: glued platens, ``platen_top`` pulled up at ``rate`` m/step.
-
-    Returns tensile strain and tensile stress (both positive in tension).
-    """
+    """Direct tension (``tension_load``): tensile strain and stress, both positive."""
     t0 = time.perf_counter()
-    m = model
-    m.fix("platen_bottom")
-    top, bot = m.group("platen_top"), m.group("platen_bottom")
-    y0 = float(m.state.pos[top, 1].mean())
-    strain, stress, times = [0.0], [0.0], [m.time]
-    while True:
-        m.set_velocity("platen_top", vx=0.0, vy=rate / m.dt)
-        m.cycle(chunk)
-        f_top, f_bot = contact_force(m, top), contact_force(m, bot)
-        times.append(m.time)
-        strain.append((float(m.state.pos[top, 1].mean()) - y0) / height)
-        stress.append(0.5 * (f_bot[1] - f_top[1]) / width)
-        peak = max(stress)
-        if strain[-1] > max_strain or (stress[-1] < post_peak * peak and peak > 0):
-            break
-    return _curve(strain, stress, times, np.zeros(len(strain)), m, t0, keep_model)
+    model.fix("platen_bottom")
+    rec = run_stages(model, [tension_load(width, height, rate, max_strain, post_peak,
+                                          chunk)])[-1]
+    return curve_of(rec, model, t0, 1.0 / height, "gauge", 0.0, keep_model)
 
 
 def direct_shear(model: Model, length: float, normal_stress: float, rate: float,
                  max_displacement: float, post_peak=0.8, chunk=200, settle_tol=0.02,
                  max_settle_steps=40_000, keep_model=False) -> LabCurve:
-    """Direct shear at constant normal stress.
-
-    ``box_up`` is held in x and rotation and servo-controlled in y to press on the specimen
-    with ``normal_stress x length`` (N/m); once the normal load is reached (within
-    ``settle_tol``), ``box_low`` moves in +x at ``rate`` m/step. Stops at
-    ``max_displacement`` or when the shear stress has fallen below ``post_peak`` x peak after
-    at least 1.5 x the displacement at peak.
-
-    Returns shear displacement (m), shear stress (Pa, x-force on the stationary upper box over
-    ``length``) and the normal stress measured on the upper box (Pa).
-
-    The shear force is read on the stationary half, like a load cell on the reaction side: the
-    force on the moving half also holds what accelerates the lower half of the specimen when
-    the box starts (times 1 / (1 - damping) with local damping), a start-up transient of up to
-    +45 % of the friction line at sn = 0.3 MPa in the fully jointed (k = 1) specimen.
-    """
+    """Direct shear at constant normal stress (``shear_stages``) on a model with groups
+    "box_up" and "box_low" (fixed here): shear displacement (m), shear stress (Pa) and, as
+    ``lateral``, the normal stress measured on the upper box (Pa)."""
     t0 = time.perf_counter()
-    m = model
-    if not (normal_stress >= 0 and math.isfinite(normal_stress)):
-        raise ValueError(f"normal stress must be finite and >= 0 Pa, got {normal_stress!r}")
-    up, low = m.group("box_up"), m.group("box_low")
-    m.fix(low)
-    m.set_velocity(up, vx=0.0, vy=None, omega=0.0)
-    target = normal_stress * length
-    v_shear = rate / m.dt
-    m.servo(up, target, direction=(0.0, -1.0), v_max=20.0 * v_shear)
-    steps = 0
-    while steps < max_settle_steps:        # consolidate under the normal load
-        m.cycle(chunk)
-        steps += chunk
-        fy = contact_force(m, up)[1]
-        if abs(fy - target) <= settle_tol * max(target, 1.0) and m.unbalanced_ratio() < 1e-3:
-            break
-    x0 = float(m.state.pos[low, 0].mean())
-    disp, tau, sn, times = [0.0], [0.0], [contact_force(m, up)[1] / length], [m.time]
-    while True:
-        m.set_velocity(low, vx=rate / m.dt, vy=0.0, omega=0.0)
-        m.cycle(chunk)
-        f_up = contact_force(m, up)
-        times.append(m.time)
-        disp.append(float(m.state.pos[low, 0].mean()) - x0)
-        tau.append(f_up[0] / length)
-        sn.append(f_up[1] / length)
-        i = int(np.argmax(tau))
-        if disp[-1] >= max_displacement:
-            break
-        if tau[i] > 0 and tau[-1] < post_peak * tau[i] and disp[-1] > 1.5 * disp[i]:
-            break
-    return _curve(disp, tau, times, sn, m, t0, keep_model)
-
-
-def _curve(x, y, times, lateral, m, t0, keep_model) -> LabCurve:
-    x, y, lateral = np.asarray(x), np.asarray(y), np.asarray(lateral)
-    i = int(np.argmax(y))
-    return LabCurve(x=x, y=y, time=np.asarray(times), lateral=lateral, peak=float(y[i]),
-                    x_at_peak=float(x[i]), steps=int(m.step), runtime_s=time.perf_counter() - t0, dt=float(m.dt),
-                    n_blocks=int(m.n_blocks), cracks=m.crack_counts(),
-                    model=m if keep_model else None)
+    stages = shear_stages(length, normal_stress, rate, max_displacement, post_peak, chunk,
+                          settle_tol, max_settle_steps)
+    model.fix("box_low")
+    rec = run_stages(model, stages)[-1]
+    return curve_of(rec, model, t0, 1.0, "across", 1.0, keep_model)
 
 
 # ---------------------------------------------------------------------------- moduli

@@ -37,6 +37,8 @@ from comparisons.results import CaseResult, Curve
 from comparisons.scenes import lajtai as scene
 from comparisons.sweep import run_sweep
 from comparisons.variants import pick_variant
+from dem_core.scene import build_model
+from dem_core.stages import run_stages
 
 DESCRIPTION = ("Virtual lab (UCS, tension, E/nu, cohesion calibration) and Lajtai's direct "
                "shear envelopes: open/closed joints, persistence, T, scale (thesis ch. 3)")
@@ -47,27 +49,27 @@ VARIANTS = {
     "quick": dict(
         ucs_edge=0.007, shear_edge=0.007, ucs_rate=1.5e-7, shear_rate=3e-7,
         ucs_max_strain=0.02, shear_max_disp=0.003,
-        normal_stresses=[0.3, 1.2, 2.4], lajtai_normal_stresses=[0.3, 1.2, 2.4],
-        persistence=[0.0, 0.5, 1.0], tensile=[0.5, 1.0], scale_edges=[],
+        normal_stresses=[0.3e6, 1.2e6, 2.4e6], lajtai_normal_stresses=[0.3e6, 1.2e6, 2.4e6],
+        persistence=[0.0, 0.5, 1.0], tensile=[0.5e6, 1.0e6], scale_edges=[],
         cohesion_sweep=[], accuracy_edges=[], accuracy_safety=[], continuum=True,
-        continuum_h=0.01, continuum_normal_stresses=[0.3, 1.2, 2.4], workers=1),
+        continuum_h=0.01, continuum_normal_stresses=[0.3e6, 1.2e6, 2.4e6], workers=1),
     "full": dict(
         ucs_edge=0.007, shear_edge=0.007, ucs_rate=1.5e-7, shear_rate=2e-7,
         ucs_max_strain=0.03, shear_max_disp=0.004,
-        normal_stresses=[0.3, 0.6, 0.9, 1.2, 1.5, 1.8, 2.1, 2.4],
-        lajtai_normal_stresses=[0.3, 0.6, 0.9, 1.2, 1.5, 1.8],
-        persistence=[0.0, 0.25, 0.5, 0.7, 1.0], tensile=[0.5, 1.0],
+        normal_stresses=[0.3e6, 0.6e6, 0.9e6, 1.2e6, 1.5e6, 1.8e6, 2.1e6, 2.4e6],
+        lajtai_normal_stresses=[0.3e6, 0.6e6, 0.9e6, 1.2e6, 1.5e6, 1.8e6],
+        persistence=[0.0, 0.25, 0.5, 0.7, 1.0], tensile=[0.5e6, 1.0e6],
         scale_edges=[0.005, 0.007, 0.009, 0.011],
-        cohesion_sweep=[0.3, 0.6, 0.9, 1.5, 2.0, 2.4],
+        cohesion_sweep=[0.3e6, 0.6e6, 0.9e6, 1.5e6, 2.0e6, 2.4e6],
         accuracy_edges=[0.005, 0.006, 0.007, 0.009, 0.011, 0.014], accuracy_safety=[0.3, 0.9],
-        continuum=True, continuum_h=0.008, continuum_normal_stresses=[0.3, 0.9, 1.5, 2.4],
+        continuum=True, continuum_h=0.008, continuum_normal_stresses=[0.3e6, 0.9e6, 1.5e6, 2.4e6],
         workers=2),
 }
 
 # thesis 3.6-3.8: flaws and joints at friction 30 for the persistence, T and scale studies
 STUDY_FRICTION = 30.0
 STUDY_TENSILE = 1.0e6
-ENVELOPE_POINT_SN = 1.2      # MPa, the envelope point of the error-vs-run-time study
+ENVELOPE_POINT_SN = 1.2e6    # Pa, the envelope point of the error-vs-run-time study
 
 
 # ---------------------------------------------------------------------------- reference
@@ -128,18 +130,17 @@ def ucs_member(q: dict) -> dict:
     height = 2.0 * width
     t0 = time.perf_counter()
     glued = q.get("test") == "tension"
-    m, left, right = scene.ucs_model(p, width, height, glued_platens=glued,
-                                     safety=q.get("safety", 0.5))
-    if glued:
-        cv = lab.tension_test(m, width, height, q["rate"], max_strain=q["max_strain"])
-        moduli = {}
-    else:
-        cv = lab.compression_test(m, width, height, q["rate"], left=left, right=right,
-                                  max_strain=q["max_strain"])
+    sc = scene.ucs_scene(p, width, height, glued_platens=glued, safety=q.get("safety", 0.5),
+                         rate=q["rate"], max_strain=q["max_strain"])
+    m = build_model(sc)
+    cv = lab.curve_of(run_stages(m, sc.stages)[-1], m, t0, 1.0 / height, "gauge",
+                      0.0 if glued else 1.0 / width)
+    moduli = {}
+    if not glued:
         try:
             moduli = lab.elastic_moduli(cv)
         except ValueError:
-            moduli = {}
+            pass
     ipk = int(np.argmax(cv.y))
     return {"peak": cv.peak, "strain_at_peak": cv.x_at_peak, "moduli": moduli,
             "softened": bool(cv.y[-1] < 0.9 * cv.peak), "steps": cv.steps, "dt": cv.dt,
@@ -154,8 +155,10 @@ def shear_member(q: dict) -> dict:
                          friction=q["friction"], kn=q["kn"], ks=q["ks"], seed=q["seed"])
     s = scene.ShearParams(joints=q["joints"], k=q["k"], joint_friction=q["joint_friction"])
     t0 = time.perf_counter()
-    m = scene.shear_model(p, s, safety=q.get("safety", 0.5))
-    cv = lab.direct_shear(m, s.length, q["sn"] * MPA, q["rate"], q["max_disp"], keep_model=True)
+    sc = scene.shear_scene(p, s, safety=q.get("safety", 0.5), normal_stress=q["sn"],
+                           rate=q["rate"], max_displacement=q["max_disp"])
+    m = build_model(sc)
+    cv = lab.curve_of(run_stages(m, sc.stages)[-1], m, t0, 1.0, "across")
     ipk = int(np.argmax(cv.y))
     out = {"peak": cv.peak, "disp_at_peak": cv.x_at_peak, "steps": cv.steps, "dt": cv.dt,
            "n_blocks": cv.n_blocks, "cracks": cv.cracks,
@@ -219,10 +222,10 @@ def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
     # c would miss the other target of the calibration, T; the report gives both (notes).
     c_use = scene.THESIS_COHESION
     at_thesis_c = ucs_runs[scene.THESIS_COHESION]
-    sweep_c = [c for c in cfg["cohesion_sweep"] if all(abs(c * MPA - k) > 1 for k in ucs_runs)]
-    for c, r in zip(sweep_c, run_sweep(ucs_member, [ucs_q(c * MPA) for c in sweep_c],
+    sweep_c = [c for c in cfg["cohesion_sweep"] if all(abs(c - k) > 1 for k in ucs_runs)]
+    for c, r in zip(sweep_c, run_sweep(ucs_member, [ucs_q(c) for c in sweep_c],
                                        workers=cfg["workers"], progress=say)):
-        ucs_runs[c * MPA] = r
+        ucs_runs[c] = r
     ucs_vs_c = np.array(sorted((c / MPA, r["peak"] / MPA) for c, r in ucs_runs.items()))
     say(f"UCS {best['peak'] / MPA:.3g} MPa at c = {c_cal / MPA:.3g} MPa "
         f"(converged {cal['converged']})")
@@ -284,8 +287,8 @@ def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
         add(f"persistence_k{k:g}", sns, pic=(sns[0],) if k in (0.0, 0.5) else (),
             joints="closed" if k > 0 else "none", k=k, **study)
     for T in cfg["tensile"]:
-        if T * MPA != STUDY_TENSILE or 0.0 not in cfg["persistence"]:
-            add(f"tensile_T{T:g}", sns, **{**study, "tensile": T * MPA})
+        if T != STUDY_TENSILE or 0.0 not in cfg["persistence"]:
+            add(f"tensile_T{T / MPA:g}", sns, **{**study, "tensile": T})
     p7 = scene.FlawParams(edge_length=cfg["shear_edge"])
     for e in cfg["scale_edges"]:
         if abs(e - cfg["shear_edge"]) < 1e-12:
@@ -307,11 +310,11 @@ def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
     for st in studies:
         src = alias.get(st, st)
         runs[st] = [(sn, out[(src, sn)]) for sn in (lsns if st.startswith("lajtai") else sns)]
-        dem["envelopes"][st] = [[sn, r["peak"] / MPA] for sn, r in runs[st]]
+        dem["envelopes"][st] = [[sn / MPA, r["peak"] / MPA] for sn, r in runs[st]]
         res.curves[f"envelope_{st}"] = Curve(
             ["normal_stress_mpa", "peak_shear_mpa", "normal_measured_mpa", "disp_at_peak_m",
              "steps", "runtime_s"],
-            np.array([[sn, r["peak"] / MPA, r["normal_measured"] / MPA, r["disp_at_peak"],
+            np.array([[sn / MPA, r["peak"] / MPA, r["normal_measured"] / MPA, r["disp_at_peak"],
                        r["steps"], r["runtime_s"]] for sn, r in runs[st]]))
     dem["shear_specimen"] = {"length_m": scene.SHEAR_LENGTH, "height_m": scene.SHEAR_HEIGHT,
                              "edge_m": cfg["shear_edge"],
@@ -401,10 +404,10 @@ def _references(res, dem, runs, c_cal):
     res.add_error("calibrated_cohesion_mpa", dem["calibrated_cohesion_mpa"], c / MPA)
     tan30 = math.tan(math.radians(STUDY_FRICTION))
     if "persistence_k1" in runs:
-        ratio = np.mean([r["peak"] / (sn * MPA * tan30) for sn, r in runs["persistence_k1"]])
+        ratio = np.mean([r["peak"] / (sn * tan30) for sn, r in runs["persistence_k1"]])
         res.add_error("k1_over_friction_line", float(ratio), 1.0)
     for st, rr in runs.items():
-        sn = np.array([s for s, _ in rr]) * MPA
+        sn = np.array([s for s, _ in rr])
         ours = np.array([r["peak"] for _, r in rr])
         ref = _reference_for(st, sn, c_cal)
         res.add_error(f"{st}_over_lajtai", float(np.mean(ours / ref)), 1.0)
@@ -506,14 +509,14 @@ def _figures(res, dem, runs, best, ucs_vs_c, cfg):
     fig, axes = plt.subplots(1, len(groups), figsize=(5 * len(groups), 4.2), squeeze=False)
     for ax, (g, title) in zip(axes[0], groups):
         for i, st in enumerate(s for s in runs if s.startswith(g)):
-            sn = np.array([s for s, _ in runs[st]])
+            sn = np.array([s for s, _ in runs[st]]) / MPA
             tau = np.array([r["peak"] for _, r in runs[st]]) / MPA
             line, = ax.plot(sn, tau, "o-", label=st)
             if g in ("lajtai", "persistence", "tensile"):
                 ss = np.linspace(0, sn.max(), 60)
                 ax.plot(ss, _reference_for(st, ss * MPA, 0) / MPA, "--", c=line.get_color(),
                         lw=0.9)
-        ss = np.linspace(0, max(cfg["normal_stresses"]), 10)
+        ss = np.linspace(0, max(cfg["normal_stresses"]) / MPA, 10)
         ax.plot(ss, ss * math.tan(math.radians(STUDY_FRICTION)), "k:", lw=0.8,
                 label="friction 30")
         ax.set_xlabel("normal stress (MPa)")
@@ -531,9 +534,10 @@ def _figures(res, dem, runs, best, ucs_vs_c, cfg):
         intact = np.array([r["peak"] for _, r in runs["persistence_k0"]])
         for st in (s for s in runs if s.startswith("persistence")):
             sn = np.array([s for s, _ in runs[st]])
-            ax.plot(sn, np.array([r["peak"] for _, r in runs[st]]) / intact, "o-", label=st)
+            ax.plot(sn / MPA, np.array([r["peak"] for _, r in runs[st]]) / intact, "o-",
+                    label=st)
         sn = np.array([s for s, _ in runs["persistence_k0"]])
-        ax.plot(sn, sn * MPA * math.tan(math.radians(STUDY_FRICTION)) / intact, "k:",
+        ax.plot(sn / MPA, sn * math.tan(math.radians(STUDY_FRICTION)) / intact, "k:",
                 label="friction 30 / intact")
         ax.set_xlabel("normal stress (MPa)")
         ax.set_ylabel("peak shear / intact (k = 0) peak")
@@ -557,7 +561,7 @@ def _figures(res, dem, runs, best, ucs_vs_c, cfg):
                 ax.plot(cr[k, 0], cr[k, 1], ".", ms=3, c=col)
             ax.set_aspect("equal")
             ax.autoscale_view()
-            ax.set_title(f"{st}, sn {sn:g} MPa: cracks at peak\n(red tension, blue shear)",
+            ax.set_title(f"{st}, sn {sn / MPA:g} MPa: cracks at peak\n(red tension, blue shear)",
                          fontsize=8)
             ax.set_xticks([])
             ax.set_yticks([])

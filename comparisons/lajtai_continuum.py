@@ -89,17 +89,18 @@ def shear_peak(sn, h=0.006, length=scene.SHEAR_LENGTH, height=scene.SHEAR_HEIGHT
     return float(max(taus)) if taus else float("nan")
 
 
-def run(normal_stresses_mpa, h=0.01, progress=None) -> dict:
-    """The continuum column: UCS and the envelope at the given normal stresses (MPa)."""
+def run(normal_stresses, h=0.01, progress=None) -> dict:
+    """The continuum column: UCS and the envelope at the given normal stresses (Pa); the
+    summary reports MPa."""
     t0 = time.perf_counter()
     u, rec = ucs(h=h)
     if progress:
         progress(f"continuum UCS {u / MPA:.3g} MPa")
     env = []
-    for sn in normal_stresses_mpa:
-        env.append([sn, shear_peak(sn * MPA, h=h) / MPA])
+    for sn in normal_stresses:
+        env.append([sn / MPA, shear_peak(sn, h=h) / MPA])
         if progress:
-            progress(f"continuum shear sn {sn:g} MPa -> {env[-1][1]:.3g} MPa")
+            progress(f"continuum shear sn {sn / MPA:g} MPa -> {env[-1][1]:.3g} MPa")
     mat = plaster()
     return {"ucs_mpa": u / MPA, "envelope": env, "h_m": h,
             "material": {"E_gpa": mat.E / 1e9, "nu": mat.nu, "cohesion_mpa": mat.cohesion / MPA,

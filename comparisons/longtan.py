@@ -47,13 +47,13 @@ VARIANTS = {
     # the others'), 40 g levels bisected to 10 g, the base strength only (about 1.5 minutes on
     # 2 cores)
     "quick": dict(edge_length=0.008, relax_iterations=10, g_levels=list(range(40, 401, 40)),
-                  refine_to=10.0, max_steps=30_000, tensile=[4.81], conventional=True,
+                  refine_to=10.0, max_steps=30_000, tensile=[4.81e6], conventional=True,
                   continuum=True, continuum_h=0.02, workers=2, threads=1),
     # full: 5 mm blocks (2.3 across the toe bridges), 20 g levels bisected to 2 g, three
     # tensile strengths (each run 4-8 minutes on one core: docs/comparisons.md, "After the
     # solver fix")
     "full": dict(edge_length=0.005, relax_iterations=50, g_levels=list(range(20, 601, 20)),
-                 refine_to=2.0, max_steps=60_000, tensile=[4.81, 3.5, 2.5], conventional=True,
+                 refine_to=2.0, max_steps=60_000, tensile=[4.81e6, 3.5e6, 2.5e6], conventional=True,
                  continuum=True, continuum_h=0.008, workers=2, threads=1),
 }
 
@@ -83,7 +83,7 @@ def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
     progress(f"{len(members)} DEM runs (g-levels {v['g_levels'][0]}..{v['g_levels'][-1]})")
     runs = run_sweep(run_member, members, workers=v["workers"], progress=progress)
     by_label = {r["label"]: r for r in runs}
-    dem_runs = [by_label[f"T={t}"] for t in v["tensile"]]
+    dem_runs = [by_label[centrifuge.tensile_label(t)] for t in v["tensile"]]
     base_run = dem_runs[0]
     result.methods["dem"] = {
         "failure_g": [[r["params"]["flaw_tensile"] / MPA, r["failure_g"]] for r in dem_runs],

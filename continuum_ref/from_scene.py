@@ -14,7 +14,8 @@ import numpy as np
 
 from .mesh import mesh_from_geometry
 
-__all__ = ["mesh_from_scene", "apply_boundaries", "side_sets", "scene_bounds"]
+__all__ = ["mesh_from_scene", "apply_boundaries", "side_sets", "scene_bounds", "scene_top",
+           "apply_insitu"]
 
 
 def mesh_from_scene(scene, h, geometry=None, **options):
@@ -62,3 +63,20 @@ def scene_bounds(scene) -> tuple:
     xy = np.concatenate([np.asarray(r.exterior, float) for r in scene.geometry.regions])
     return float(xy[:, 0].min()), float(xy[:, 1].min()), float(xy[:, 0].max()), \
         float(xy[:, 1].max())
+
+
+def scene_top(scene) -> np.ndarray:
+    """(m, 2) polyline of the top of the scene's regions (their upper envelope, the surface an
+    in-situ field with ``surface=None`` measures depth from; the DEM takes the same from its
+    blocks' outer edges)."""
+    from dem_core.insitu import top_surface
+    edges = []
+    for r in scene.geometry.regions:
+        p = np.asarray(r.exterior, dtype=np.float64)
+        edges.append(np.column_stack([p, np.roll(p, -1, axis=0)]))
+    return top_surface(np.concatenate(edges))
+
+
+def apply_insitu(model, scene, stage) -> None:
+    """Give ``model`` (ContinuumModel) the in-situ stress of a scene's ``insitu`` stage."""
+    model.set_stress_field(stage, top=scene_top(scene))

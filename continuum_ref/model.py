@@ -360,6 +360,19 @@ class ContinuumModel:
         self.sig_n = np.stack([-k0 * sv, -sv, -k0 * sv, 0.0 * sv], axis=1)
         self._sig_now = self.sig_n.copy()
 
+    def set_stress_field(self, field, top=None):
+        """Start from an in-situ stress field (``dem_core.insitu.InSitu``: sxx, syy, sxy,
+        compression +; the out-of-plane stress = sxx) at every quadrature point; ``top``: the
+        model's top polyline when the field's surface is None (``from_scene.scene_top``).
+        Displacements and gravity are not changed: solve gravity at the level the field
+        balances, then ``reset_displacement``."""
+        field.check()
+        x, y = self._qp_xy[:, 0], self._qp_xy[:, 1]
+        sxx, syy, sxy = field.stress(x, y, top)
+        sxx, syy, sxy = (np.broadcast_to(v, x.shape) for v in (sxx, syy, sxy))
+        self.sig_n = np.stack([-sxx, -syy, -sxx, -math.sqrt(2.0) * sxy], axis=1)
+        self._sig_now = self.sig_n.copy()
+
     def reset_displacement(self):
         """Zero displacements (and strain reference) keeping stresses: start of a new stage."""
         if self._forms is None:

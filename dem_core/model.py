@@ -236,9 +236,12 @@ class Model:
                           0.0 if rotation else None)
 
     def free(self, group):
-        """Release every prescribed velocity component of a group."""
+        """Release every prescribed velocity component of a group, and end any servo acting
+        on its blocks."""
         idx = self.group(group)
         self.props.fixity[idx] = 0
+        self.servo_groups = [(g, prm) for g, prm in self.servo_groups
+                             if not np.isin(g, idx).any()]
         self._update_timestep()
 
     def set_velocity(self, group, vx=None, vy=None, omega=0.0):

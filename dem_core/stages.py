@@ -14,7 +14,10 @@ point and the crack counts (``StageRecord``). The centrifuge g-ramp is one stage
 | "excavate" | ``Excavate(group)`` | removes a group's blocks |
 | "change_material" | ``ChangeMaterial(material, changes)`` | a strength (or stiffness) change |
 | "prescribe_velocity" | ``PrescribeVelocity(group, vx, vy, omega)`` | velocity boundary (m/s) |
-| "release" | ``Release(group)`` | frees a group's prescribed velocities |
+| "release" | ``Release(group)`` | frees a group's prescribed velocities and its servo |
+| "servo" | ``loading.ServoLoad(group, stress, length, direction, ...)`` | a constant force, settled |
+| "load" | ``loading.Load(group, rate, direction, read_on, length, ...)`` | a displacement-controlled load past its peak |
+| "insitu" | ``insitu.InSitu(sxx, syy, sxy, gxx, gyy, gxy, k, surface)`` | every contact starts with the traction of a stress field |
 """
 from __future__ import annotations
 
@@ -23,10 +26,12 @@ import math
 import time
 from dataclasses import dataclass, field
 
+from .insitu import InSitu
+from .loading import Load, ServoLoad
 from .materials import Material
 
 __all__ = ["Gravity", "Solve", "Cycle", "RaiseGravity", "Excavate", "ChangeMaterial",
-           "PrescribeVelocity", "Release", "StageRecord", "run_stages", "stage_from_dict",
+           "PrescribeVelocity", "Release", "ServoLoad", "Load", "InSitu", "StageRecord", "run_stages", "stage_from_dict",
            "stage_to_dict", "STAGE_KINDS"]
 
 
@@ -184,7 +189,8 @@ class Release:
 STAGE_KINDS = {"gravity": Gravity, "solve": Solve, "cycle": Cycle,
                "raise_gravity": RaiseGravity, "excavate": Excavate,
                "change_material": ChangeMaterial, "prescribe_velocity": PrescribeVelocity,
-               "release": Release}
+               "release": Release, "servo": ServoLoad, "load": Load,
+               "insitu": InSitu}
 _KIND_OF = {cls: kind for kind, cls in STAGE_KINDS.items()}
 
 
@@ -204,9 +210,11 @@ def stage_from_dict(d: dict, i: int = 0):
     if set(d) - allowed:
         raise ValueError(f"stage {i} ({kind}): unknown key(s) {sorted(set(d) - allowed)}; "
                          f"allowed {sorted(allowed)}")
-    for key in ("direction", "g_levels", "watch"):
+    for key in ("direction", "g_levels", "watch", "read_on", "gauge", "gauge_direction"):
         if key in d:
             d[key] = tuple(d[key])
+    if isinstance(d.get("surface"), list):
+        d["surface"] = tuple(tuple(p) for p in d["surface"])
     try:
         return cls(**d)
     except TypeError as e:

@@ -9,7 +9,7 @@ from comparisons import adhikary
 from comparisons.results import write_results
 
 TINY = dict(edge_length=0.008, relax_iterations=2, g_levels=[40, 60], max_steps=1500,
-            refine_to=None, tensile=[1.1], frictions=[25.0], bedding_cohesion=[],
+            refine_to=None, tensile=[1.1e6], frictions=[25.0], bedding_cohesion=[],
             conventional=True, continuum=False, continuum_h=0.02, workers=1, threads=2)
 
 

@@ -102,10 +102,11 @@ def test_calibration_reproduces_its_own_target_ucs_on_a_voronoi_specimen():
 
 def test_compression_modulus_of_a_strong_specimen_is_near_the_lattice():
     p = scene.FlawParams(edge_length=0.01, block_E=None, relax_iterations=50)
-    m, left, right = scene.ucs_model(p, 0.1, 0.2)
+    m = scene.ucs_model(p, 0.1, 0.2)
     for name in ("flaw:*",):
         m.set_material(name, tensile_strength=1e9, cohesion=1e9)
-    cv = lab.compression_test(m, 0.1, 0.2, 3e-7, left=left, right=right, max_strain=0.002)
+    cv = lab.compression_test(m, 0.1, 0.2, 3e-7, gauge=("left side", "right side"),
+                              max_strain=0.002)
     E2 = lab.elastic_moduli(cv, 0.2, 0.9)["E_2d"]
     d = math.sqrt(2 * m.blocks.area[m.blocks.groups["rock"]].mean() / math.sqrt(3))
     pred = lattice_moduli(p.kn, p.ks, d)["E_2d"]

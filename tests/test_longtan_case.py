@@ -12,7 +12,7 @@ from comparisons import longtan
 from comparisons.results import write_results
 
 TINY = dict(edge_length=0.010, relax_iterations=2, g_levels=[120, 240, 360], max_steps=20_000,
-            refine_to=None, tensile=[4.81], conventional=True, continuum=False,
+            refine_to=None, tensile=[4.81e6], conventional=True, continuum=False,
             continuum_h=0.05, workers=1, threads=1)
 
 

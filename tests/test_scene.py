@@ -129,10 +129,22 @@ def test_the_lajtai_specimens_are_scenes_that_round_trip(tmp_path):
     from comparisons.scenes import lajtai
 
     p = lajtai.FlawParams(edge_length=0.01)
-    for sc in (lajtai.ucs_scene(p), lajtai.shear_scene(p, lajtai.ShearParams("closed", 0.5))):
+    ucs = lajtai.ucs_scene(p, rate=1.5e-7, max_strain=0.02)
+    shear = lajtai.shear_scene(p, lajtai.ShearParams("closed", 0.5), normal_stress=1.2e6,
+                               rate=3e-7, max_displacement=0.003)
+    assert [type(s).__name__ for s in ucs.stages + shear.stages] == ["Load", "ServoLoad", "Load"]
+    for sc in (ucs, shear):
         sc.save(tmp_path / "s.json")
         again = Scene.load(tmp_path / "s.json")
         assert again.to_dict() == sc.to_dict()
         m = build_model(again)
         fixed = m.group(sc.boundaries[0].group)
         assert np.all(m.props.fixity[fixed] == 7) and np.count_nonzero(m.props.fixity) == fixed.size
+    # the lateral gauge of the compression test: the specimen's blocks on its side faces
+    m = build_model(ucs)
+    for side, x in (("left side", 0.0), ("right side", lajtai.UCS_WIDTH)):
+        idx = m.group(side)
+        assert idx.size > 5 and not np.isin(idx, m.group("platens")).any()
+        for b in idx:
+            v = m.blocks.vertices[m.blocks.vertex_offsets[b]:m.blocks.vertex_offsets[b + 1]]
+            assert np.abs(v[:, 0] - x).min() < 1e-9

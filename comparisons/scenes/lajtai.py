@@ -41,6 +41,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from comparisons import lab
 from dem_core.geometry import (GeometrySpec, JointLine, Region, Voronoi, build_block_system,
                                rectangle)
 from dem_core.materials import Material
@@ -193,17 +194,6 @@ def build(spec: GeometrySpec):
     return build_block_system(spec)
 
 
-def side_blocks(blocks, x, tol):
-    """Indices of the specimen blocks with a vertex within ``tol`` of the line x = ``x``."""
-    rock = np.asarray(blocks.groups["rock"])
-    out = []
-    for b in rock:
-        v = blocks.vertices[blocks.vertex_offsets[b]:blocks.vertex_offsets[b + 1]]
-        if np.any(np.abs(v[:, 0] - x) < tol):
-            out.append(b)
-    return np.array(out, dtype=np.int64)
-
-
 def stiffness_for_edge(p: FlawParams, edge: float) -> FlawParams:
     """``p`` at block edge ``edge`` with kn, ks scaled by thesis eq. 3.7 (kn proportional to
     1 / zone width, so kn(edge) = kn(p.edge_length) p.edge_length / edge; ks/kn kept)."""
@@ -218,33 +208,44 @@ def _solver(safety=0.5) -> dict:
 
 
 def ucs_scene(p: FlawParams, width=UCS_WIDTH, height=UCS_HEIGHT, glued_platens=False,
-              safety=0.5) -> Scene:
+              safety=0.5, rate=None, max_strain=None) -> Scene:
     """The compression (or, glued, tension) specimen between its platens as a scene: the lower
-    platen fixed (the loading path, ``comparisons.lab``, moves the upper one)."""
+    platen fixed; groups "left side", "right side" (specimen blocks on its side faces: the
+    lateral gauge). With ``rate`` (m/step) and ``max_strain`` its stage is the loading path
+    (``comparisons.lab.compression_load`` or ``tension_load``)."""
+    groups = {"left edge": {"touching": "left"}, "right edge": {"touching": "right"},
+              "platens": {"union": ["platen_bottom", "platen_top"]},
+              "left side": {"minus": ["left edge", "platens"]},
+              "right side": {"minus": ["right edge", "platens"]}}
+    stages = []
+    if rate is not None:
+        stages = [lab.tension_load(width, height, rate, max_strain) if glued_platens else
+                  lab.compression_load(width, height, rate, ("left side", "right side"),
+                                       max_strain)]
     return Scene(ucs_geometry(p, width, height), ucs_materials(p, glued_platens),
-                 density=DENSITY, block_E=p.block_E, block_nu=p.block_nu,
-                 boundaries=[Boundary("platen_bottom")], solver=_solver(safety),
+                 density=DENSITY, block_E=p.block_E, block_nu=p.block_nu, groups=groups,
+                 boundaries=[Boundary("platen_bottom")], stages=stages, solver=_solver(safety),
                  name="lajtai ucs" if not glued_platens else "lajtai tension")
 
 
 def ucs_model(p: FlawParams, width=UCS_WIDTH, height=UCS_HEIGHT, glued_platens=False,
               safety=0.5, blocks=None):
-    """The compression (or, glued, tension) specimen as a Model (built from ``ucs_scene``),
-    and its side-block indices."""
+    """The compression (or, glued, tension) specimen as a Model (built from ``ucs_scene``)."""
     sc = ucs_scene(p, width, height, glued_platens, safety)
-    bs = build(sc.geometry) if blocks is None else blocks
-    m = build_scene_model(sc, bs)
-    tol = 1e-6 * width
-    return m, side_blocks(bs, 0.0, tol), side_blocks(bs, width, tol)
+    return build_scene_model(sc, build(sc.geometry) if blocks is None else blocks)
 
 
-def shear_scene(p: FlawParams, s: ShearParams, safety=0.5) -> Scene:
-    """The direct-shear specimen in its box as a scene: the lower box fixed (the loading path,
-    ``comparisons.lab.direct_shear``, servo-controls the upper box and moves the lower one);
-    new contacts get the flaws' residual strength."""
+def shear_scene(p: FlawParams, s: ShearParams, safety=0.5, normal_stress=None, rate=None,
+                max_displacement=None) -> Scene:
+    """The direct-shear specimen in its box as a scene: the lower box fixed; new contacts get
+    the flaws' residual strength. With ``normal_stress`` (Pa), ``rate`` (m/step) and
+    ``max_displacement`` (m) its stages are the loading path (``comparisons.lab.shear_stages``:
+    the upper box servo-pressed, the lower box moved)."""
+    stages = [] if rate is None else lab.shear_stages(s.length, normal_stress, rate,
+                                                       max_displacement)
     return Scene(shear_geometry(p, s), shear_materials(p, s), density=DENSITY,
                  block_E=p.block_E, block_nu=p.block_nu, boundaries=[Boundary("box_low")],
-                 solver=dict(_solver(safety), new_contact_material="flaw:rock"),
+                 stages=stages, solver=dict(_solver(safety), new_contact_material="flaw:rock"),
                  name="lajtai direct shear")
 
 
