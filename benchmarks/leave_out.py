@@ -5,8 +5,8 @@
 Part 1, unused components. One bonded Voronoi specimen (``throughput.specimen``, 50 g, a fixed
 base) is stepped with each optional part of the time step absent, present but idle, and (for
 reference) active. An absent component is an empty bundle whose kernel loops over nothing
-(``dem_core/components``: gravity, applied loads, servo; the contact-search check is an infinite
-margin), so an absent part and a zero part should cost the same.
+(``dem_core/components``: gravity, applied loads, water, servo; the contact-search check is an
+infinite margin), so an absent part and a zero part should cost the same.
 Timings alternate between the variants (``--reps`` rounds, the minimum per variant is kept) so
 the load of the shared machine affects all alike.
 
@@ -85,6 +85,15 @@ def variants(bs):
     def conventional():
         return _model(bs, unbreakable="flaw:*")
 
+    def water(on):
+        def build():
+            from dem_core.water import WaterTable
+            m = _model(bs)
+            y = bs.vertices[:, 1]
+            m.set_water(WaterTable(float(0.5 * (y.min() + y.max())), on=on))
+            return m
+        return build
+
     return {"baseline (gravity, search check)": (base, "reference"),
             "apply_load present but zero": (zero_load, "unused: must cost nothing"),
             "servo present but idle (empty group)": (idle_servo, "unused: must cost nothing"),
@@ -93,7 +102,11 @@ def variants(bs):
             "contact-search check off": (no_search_check, "cost of the movement check"),
             "gravity off": (no_gravity, "cost of the gravity pass"),
             "conventional contacts (unbreakable flaws)": (conventional,
-                                                          "glued vs damage law")}
+                                                          "glued vs damage law"),
+            "water table at mid-height, joints (flaws dry)": (water("joints"),
+                                                               "cost of water, flaws skipped"),
+            "water table at mid-height, all contacts": (water("all"),
+                                                        "cost of water on every contact")}
 
 
 def unused_costs(n_blocks, steps, reps, log):

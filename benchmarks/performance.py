@@ -8,8 +8,8 @@ time per Newton iteration against dofs.
   threaded kernel of ``dem_core.parallel``, ``Model(threads=2)``); contact updates per second
   per core = updates / s / threads, and the speed-up of 2 threads over 1 at each size.
 - Profile: the parts of one step timed separately on one specimen by calling the same numba
-  kernels the step calls (``forces.add_contact_forces``, ``step.advance``,
-  ``kinematics.update_rotation``, the zeroing of the force array, ``components.add_gravity``).
+  kernels the step calls (``forces.add_contact_forces``, ``step.advance`` (which also turns
+  each block's ``rot``), the zeroing of the force array, ``components.add_gravity``).
 - Machine limit: memory bandwidth from numpy copies (``dst[:] = src``, 2 x 200 MB, counted as
   read + write) and a triad; the bytes streamed and the flops per contact update counted from the
   kernel source (see ``BYTES_PER_CONTACT``); the bandwidth-bound time per contact update is
@@ -63,7 +63,6 @@ def bandwidth(mb=200, reps=5):
 def profile(n_blocks, steps=200):
     from dem_core import forces, step
     from dem_core.components import add_gravity
-    from dem_core.kinematics import update_rotation
 
     bs = throughput.specimen(n_blocks)
     m = leave_model(bs)
@@ -86,10 +85,8 @@ def profile(n_blocks, steps=200):
     # advance moves the blocks: keep the force small so the specimen stays put
     s.force.fill(0.0)
     integ = m._integrator()
-    timed("damping + integration + movement check (advance)", lambda: step.advance(
+    timed("damping + integration + rotation + movement check (advance)", lambda: step.advance(
         s, p, integ, m.dt))
-    timed("cos/sin of rotations (update_rotation)",
-          lambda: update_rotation(s.theta, s.rot, s.rot_half))
     m2 = leave_model(bs)
     m2.cycle(steps)
     t0 = time.perf_counter()

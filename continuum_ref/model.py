@@ -373,6 +373,12 @@ class ContinuumModel:
         self.sig_n = np.stack([-sxx, -syy, -sxx, -math.sqrt(2.0) * sxy], axis=1)
         self._sig_now = self.sig_n.copy()
 
+    def equilibrate(self):
+        """Bring the current stress, gravity and loads to equilibrium by one Newton solve (no
+        load stepping: meant for an in-situ field near equilibrium, e.g. a geostatic field under
+        a slope, whose imbalance the material carries elastically). Returns a StageResult."""
+        return self._run("equilibrate", lambda t: None, 0.0, 1.0, 1.0, 1.0)
+
     def reset_displacement(self):
         """Zero displacements (and strain reference) keeping stresses: start of a new stage."""
         if self._forms is None:

@@ -206,8 +206,11 @@ def _vertex_and_edge(vertices, offsets, block_a, block_b, points, mids, normal_a
             ln = np.hypot(ex, ey)
             ox, oy = ey / ln, -ex / ln          # outward normal of a CCW polygon's edge
             dist = abs((mids[i, 0] - vertices[j, 0]) * ox + (mids[i, 1] - vertices[j, 1]) * oy)
-            # B's outward normal is minus the A -> B normal
-            if -(ox * normal_ab[i, 0] + oy * normal_ab[i, 1]) > 0.99 and dist <= tol:
+            along = ((mids[i, 0] - vertices[j, 0]) * ex + (mids[i, 1] - vertices[j, 1]) * ey) / ln
+            # B's outward normal is minus the A -> B normal; of the collinear pieces of a split
+            # side, the one the shared edge lies on
+            if -(ox * normal_ab[i, 0] + oy * normal_ab[i, 1]) > 0.99 and dist <= tol and \
+                    -tol <= along <= ln + tol:
                 edge_b[i] = j
                 break
     return vertex_a, on_vertex_b, edge_b

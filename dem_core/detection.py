@@ -179,6 +179,31 @@ def _diagonal_at_crossing(wv, offsets, B, be, f, x, y, a1x, a1y, a2x, a2y, margi
 
 
 @njit(cache=True)
+def _point_touch(wv, offsets, A, v, B, tie):
+    """True when A's vertex v sits on a corner of B (within ``tie``) and no edge of A there
+    runs along an edge of B there in the same direction: the two blocks meet at that one point
+    only (diagonal neighbours where two lines meet, e.g. where the cells of two beds meet on a
+    bedding joint). Such a touch has no contact length and no defined normal; a contact there
+    would add stiffness and stress to an interface the shared edges already carry."""
+    vn = v + 1 if v + 1 < offsets[A + 1] else offsets[A]
+    vp = v - 1 if v > offsets[A] else offsets[A + 1] - 1
+    for w in range(offsets[B], offsets[B + 1]):
+        if math.hypot(wv[v, 0] - wv[w, 0], wv[v, 1] - wv[w, 1]) > tie:
+            continue
+        wn = w + 1 if w + 1 < offsets[B + 1] else offsets[B]
+        wp = w - 1 if w > offsets[B] else offsets[B + 1] - 1
+        for a in (vn, vp):
+            ax, ay = wv[a, 0] - wv[v, 0], wv[a, 1] - wv[v, 1]
+            la = math.hypot(ax, ay)
+            for b in (wn, wp):
+                bx, by = wv[b, 0] - wv[w, 0], wv[b, 1] - wv[w, 1]
+                if ax * bx + ay * by > 0.999 * la * math.hypot(bx, by):
+                    return False            # they share a face from this corner
+        return True
+    return False
+
+
+@njit(cache=True)
 def _supports(wv, offsets, A, v, ox, oy, slope):
     """True if vertex v is block A's deepest point towards B's face of outward normal (ox, oy),
     within ``slope``: neither of A's two edges at v runs into B (edge direction . normal
@@ -265,6 +290,8 @@ def _vertex_candidates(A, B, wv, offsets, lo, hi, margin, covered, slope, out, n
         ln2 = ex * ex + ey * ey
         s = ((x - wv[be, 0]) * ex + (y - wv[be, 1]) * ey) / ln2
         if _diagonal_at_crossing(wv, offsets, B, be, f, x, y, a1x, a1y, a2x, a2y, margin):
+            continue
+        if _point_touch(wv, offsets, A, v, B, tie):
             continue
         if (s < 0.0 or s > 1.0) and bseg > margin:   # near a corner: distance to the segment
             continue

@@ -9,7 +9,8 @@ The field (compression positive, Pa), as UDEC's in-situ stress with gradients::
 ``surface``: a level (m), a polyline [[x, y], ...] (increasing x; held flat beyond its ends) or
 None, the top of the model (the upper envelope of the geometry's regions, so that a slope's
 stress grows with depth below its own face). The out-of-plane stress (continuum, plane strain)
-is taken equal to sxx. A geostatic field is ``gyy = rho g`` (times the g-level) with ``k``.
+is taken equal to sxx. A geostatic field is ``gyy = rho g`` (times the g-level) with ``k``
+(``InSitu.geostatic``).
 
 DEM: each contact gets the traction of the field on its plane, ``sn = n . S . n`` and
 ``ts = t . S . n`` (n from A into B, t = (-n_y, n_x): the law's convention, ``law.py``), at the
@@ -84,6 +85,14 @@ class InSitu:
     gxy: float = 0.0
     k: float | None = None
     surface: float | tuple | None = None
+
+    @classmethod
+    def geostatic(cls, density, k, g_level=1.0, surface=None) -> "InSitu":
+        """The field of rock of ``density`` (kg/m^3) at ``g_level`` under its own weight:
+        sv = density g depth (g = ``model.STANDARD_GRAVITY``, as the DEM's and the
+        continuum's gravity), sh = k sv."""
+        from .model import STANDARD_GRAVITY
+        return cls(gyy=float(density) * STANDARD_GRAVITY * float(g_level), k=k, surface=surface)
 
     def check(self, i=0, groups=(), materials=()):
         where = f"stage {i} (insitu)"

@@ -15,7 +15,7 @@ import math
 
 from numba import njit
 
-__all__ = ["body_point", "rotate", "unrotate", "point_velocity", "update_rotation",
+__all__ = ["body_point", "rotate", "unrotate", "point_velocity", "set_rotation", "update_rotation",
            "contact_normal"]
 
 
@@ -63,13 +63,19 @@ def contact_normal(s, a, b, face, nb_x, nb_y):
     return rotate(s.rot_half, a, x, y)
 
 
+@njit(cache=True, inline="always")
+def set_rotation(theta, rot, rot_half, i):
+    """rot[i] = (cos theta_i, sin theta_i), rot_half[i] the same of theta_i / 2."""
+    ch = math.cos(0.5 * theta[i])
+    sh = math.sin(0.5 * theta[i])
+    rot_half[i, 0] = ch
+    rot_half[i, 1] = sh
+    rot[i, 0] = ch * ch - sh * sh              # double-angle: two trig calls per block, not four
+    rot[i, 1] = 2.0 * sh * ch
+
+
 @njit(cache=True)
 def update_rotation(theta, rot, rot_half):
-    """rot[i] = (cos theta_i, sin theta_i), rot_half[i] the same of theta_i / 2, every block."""
+    """``set_rotation`` of every block."""
     for i in range(theta.shape[0]):
-        ch = math.cos(0.5 * theta[i])
-        sh = math.sin(0.5 * theta[i])
-        rot_half[i, 0] = ch
-        rot_half[i, 1] = sh
-        rot[i, 0] = ch * ch - sh * sh          # double-angle: two trig calls per block, not four
-        rot[i, 1] = 2.0 * sh * ch
+        set_rotation(theta, rot, rot_half, i)

@@ -7,6 +7,7 @@ stage records any scene can use (``dem_core.stages``):
 |---|---|---|
 | "servo" | ``ServoLoad(group, stress, length, direction, v_max, ...)`` | presses a group along a direction with a constant force, cycles until it is reached |
 | "load" | ``Load(group, rate, direction, read_on, length, ...)`` | moves a group at a constant rate and records the reaction until the peak is passed |
+| "displace" | ``Displace(group, displacement, direction, rate)`` | moves a group at a constant rate until it has moved ``displacement``, then releases it |
 
 Rates are displacements per time step (m/step): with mass scaling the time step, not the
 physical density, sets the inertia, so a rate per step is what makes a run quasi-static (halve it
@@ -27,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Load", "ServoLoad", "reaction"]
+__all__ = ["Load", "ServoLoad", "Displace", "reaction"]
 
 
 def _unit(v, what):
@@ -196,3 +197,45 @@ class Load:
         out.update(peak=float(out["reaction"][i]), displacement_at_peak=float(
             out["displacement"][i]))
         return steps, verdict, out
+
+
+@dataclass(frozen=True)
+class Displace:
+    """Move ``group`` along ``direction`` at ``rate`` m/step (no rotation, no motion across)
+    until its mean displacement along the direction reaches ``displacement`` (m), then free it
+    (``Model.free``): a boundary pulled back by a set distance and let go, e.g. the thesis's
+    weathered zone at the toe of Checkerboard Creek (ch. 7). Stops after ``max_steps`` with the
+    verdict "not reached". Detail: the displacement reached (m)."""
+
+    group: str
+    displacement: float
+    direction: tuple = (0.0, -1.0)
+    rate: float = 1e-7
+    max_steps: int = 1_000_000
+    chunk: int = 200
+
+    def check(self, i, groups, materials):
+        _known(i, "displace", [self.group], groups)
+        _unit(self.direction, f"stage {i} (displace): direction")
+        if not (math.isfinite(self.displacement) and self.displacement > 0
+                and math.isfinite(self.rate) and self.rate > 0 and self.max_steps > 0
+                and self.chunk > 0):
+            raise ValueError(f"stage {i} (displace): displacement {self.displacement!r} m, "
+                             f"rate {self.rate!r} m/step, max_steps and chunk must be > 0")
+
+    def run(self, model):
+        d = _unit(self.direction, "displace direction")
+        x0, moved, steps = _mean_along(model, self.group, d), 0.0, 0
+        while moved < self.displacement and steps < self.max_steps:
+            # the last chunk is shortened so the group stops at the displacement
+            left = math.ceil((self.displacement - moved) / self.rate)
+            k = int(min(self.chunk, left, self.max_steps - steps))
+            v = self.rate / model.dt              # dt may change after contact searches
+            model.set_velocity(self.group, vx=v * d[0], vy=v * d[1], omega=0.0)
+            model.cycle(k)
+            steps += k
+            moved = _mean_along(model, self.group, d) - x0
+        model.set_velocity(self.group, vx=0.0, vy=0.0, omega=0.0)
+        model.free(self.group)
+        verdict = "displaced" if moved >= self.displacement * (1 - 1e-9) else "not reached"
+        return steps, verdict, {"displacement": float(moved)}

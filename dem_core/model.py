@@ -20,11 +20,12 @@ import numpy as np
 
 from . import detection, io, monitor, step as stepper
 from .blocks import BlockSystem
-from .components import gravity_bundle, loads_bundle, servo_bundle
+from .components import exposed_faces, gravity_bundle, loads_bundle, servo_bundle, water_bundle
 from .contacts import initial_contacts, surface_materials
 from .elastic import series_stiffness
 from .materials import Material, material_table
 from .parallel import no_parallel, parallel_bundle
+from .water import WaterTable
 from .state import (FIX_ROT, FIX_X, FIX_Y, CrackLog, Integrator, block_props,
                     state_at_rest)
 
@@ -132,6 +133,8 @@ class Model:
         self.gravity = np.zeros(2)             # m/s^2 (components.Gravity)
         self.load = np.zeros((nb, 3))          # N/m, N m/m per block (components.Loads)
         self.servo_groups = []                 # (blocks, params row) (components.Servo)
+        self.water = None                      # water.WaterTable (components.Water)
+        self.water_faces = None                # exposed faces while there is water
         self.time = 0.0
         self.step = 0
         self.history = monitor.History(every=int(history_every))
@@ -334,13 +337,25 @@ class Model:
         c = self.contacts
         keep = (p.active[c.block_a[:c.n]] > 0) & (p.active[c.block_b[:c.n]] > 0)
         self.contacts = c.take(np.flatnonzero(keep))
+        if self.water is not None:
+            self.water_faces = exposed_faces(self.blocks, p.active)
         self._update_timestep()
+
+    def set_water(self, table):
+        """Put a water table (``water.WaterTable``) on the model, or take it off (None):
+        pressure on the contacts and exposed faces below it (``components.water``)."""
+        if table is not None:
+            table.check()
+            self.water_faces = exposed_faces(self.blocks, self.props.active)
+        else:
+            self.water_faces = None
+        self.water = table
 
     # ----------------------------------------------------------------- state: copies and files
     # What changes while a model runs (everything else is fixed at construction).
     _STATE = ("props", "state", "contacts", "cracks", "materials", "table", "gravity", "load",
               "servo_groups", "time", "step", "dt", "critical_dt", "kinetic", "history",
-              "points", "search_enabled")
+              "points", "search_enabled", "water", "water_faces")
     _SETTINGS = ("unbreakable", "damping", "safety", "mass_scaling", "fixed_dt",
                  "search_margin", "new_contact_material", "threads", "kinetic_damping")
 
@@ -362,7 +377,8 @@ class Model:
                 "clock": {k: getattr(self, k) for k in ("time", "step", "dt", "critical_dt",
                                                          "search_enabled")},
                 "materials": {k: vars(m) for k, m in self.materials.items()},
-                "table_names": self.table.names}
+                "table_names": self.table.names,
+                "water": None if self.water is None else self.water.to_dict()}
         io.save_parts(path, self.blocks, bundles, self.contacts, arrays, meta,
                       self.servo_groups, self.points, self.history)
 
@@ -383,6 +399,9 @@ class Model:
         m.block_E, m.block_nu, m.gravity, m.load, m.kinetic = (
             a[k] for k in ("block_E", "block_nu", "gravity", "load", "kinetic"))
         m.servo_groups, m.points, m.history = (parts[k] for k in ("servo", "points", "history"))
+        m.water = m.water_faces = None
+        if meta.get("water") is not None:
+            m.set_water(WaterTable.from_dict(meta["water"]))
         return m
 
     # ----------------------------------------------------------------- monitors
@@ -456,7 +475,8 @@ class Model:
     def _components(self):
         """The force component bundles of the step, empty where the scene has none."""
         return (gravity_bundle(self.gravity), loads_bundle(self.load),
-                servo_bundle(self.servo_groups))
+                water_bundle(self.water, self.contacts, self.state, self.table.names,
+                             self.water_faces), servo_bundle(self.servo_groups))
 
     def _parallel(self):
         """Scratch and the block -> contact table for the threaded kernel (empty: serial)."""

@@ -30,7 +30,7 @@ import shapely
 
 from .geometry import GeometrySpec
 from .materials import Material, material_table
-from .stages import stage_from_dict, stage_to_dict
+from .stages import check_stages, stage_from_dict, stage_to_dict
 
 __all__ = ["Scene", "Boundary", "build_model", "resolve_groups", "GROUP_SELECTORS"]
 
@@ -110,8 +110,7 @@ class Scene:
         for pname, xy in self.points.items():
             if not all(math.isfinite(v) for v in xy):
                 raise ValueError(f"monitoring point {pname!r} is not finite: {xy!r}")
-        for i, st in enumerate(self.stages):
-            st.check(i, known, self.materials)
+        check_stages(self.stages, known, self.materials)
 
     def group_names(self) -> set:
         """Every group a boundary or stage may name: the scene's, the regions', the geometry's

@@ -18,6 +18,10 @@ point and the crack counts (``StageRecord``). The centrifuge g-ramp is one stage
 | "servo" | ``loading.ServoLoad(group, stress, length, direction, ...)`` | a constant force, settled |
 | "load" | ``loading.Load(group, rate, direction, read_on, length, ...)`` | a displacement-controlled load past its peak |
 | "insitu" | ``insitu.InSitu(sxx, syy, sxy, gxx, gyy, gxy, k, surface)`` | every contact starts with the traction of a stress field |
+| "water" | ``water.WaterTable(surface, unit_weight, on)`` | puts a water table on the model (surface None: drains it) |
+| "displace" | ``loading.Displace(group, vx, vy, displacement, ...)`` | moves a group until it has moved a distance, then releases it |
+| "factor_of_safety" | ``strength.FactorOfSafety(materials, f_levels, refine_to, tension, ...)`` | strength-reduction factor of safety |
+| "strength_schedule" | ``strength.StrengthSchedule(material, property, values, refine_to, ...)`` | lowers a strength until failure |
 """
 from __future__ import annotations
 
@@ -27,12 +31,15 @@ import time
 from dataclasses import dataclass, field
 
 from .insitu import InSitu
-from .loading import Load, ServoLoad
+from .loading import Displace, Load, ServoLoad
 from .materials import Material
+from .strength import FactorOfSafety, StrengthSchedule
+from .water import WaterTable
 
 __all__ = ["Gravity", "Solve", "Cycle", "RaiseGravity", "Excavate", "ChangeMaterial",
-           "PrescribeVelocity", "Release", "ServoLoad", "Load", "InSitu", "StageRecord", "run_stages", "stage_from_dict",
-           "stage_to_dict", "STAGE_KINDS"]
+           "PrescribeVelocity", "Release", "ServoLoad", "Load", "InSitu", "Displace",
+           "FactorOfSafety", "StrengthSchedule", "WaterTable", "StageRecord", "run_stages",
+           "check_stages", "stage_from_dict", "stage_to_dict", "stage_table", "STAGE_KINDS"]
 
 
 def _group_known(i, kind, group, known):
@@ -130,8 +137,13 @@ class Excavate:
         _group_known(i, "excavate", self.group, groups)
 
     def run(self, model):
+        idx = model.group(self.group)
+        left = int(model.props.active[idx].sum())
+        if left == 0:
+            raise ValueError(f"excavate: group {self.group!r} has no blocks left (already "
+                             "excavated)")
         model.remove(self.group)
-        return 0, "removed", {}
+        return 0, "removed", {"blocks": left}
 
 
 @dataclass(frozen=True)
@@ -190,7 +202,8 @@ STAGE_KINDS = {"gravity": Gravity, "solve": Solve, "cycle": Cycle,
                "raise_gravity": RaiseGravity, "excavate": Excavate,
                "change_material": ChangeMaterial, "prescribe_velocity": PrescribeVelocity,
                "release": Release, "servo": ServoLoad, "load": Load,
-               "insitu": InSitu}
+               "insitu": InSitu, "displace": Displace, "factor_of_safety": FactorOfSafety,
+               "strength_schedule": StrengthSchedule, "water": WaterTable}
 _KIND_OF = {cls: kind for kind, cls in STAGE_KINDS.items()}
 
 
@@ -210,7 +223,8 @@ def stage_from_dict(d: dict, i: int = 0):
     if set(d) - allowed:
         raise ValueError(f"stage {i} ({kind}): unknown key(s) {sorted(set(d) - allowed)}; "
                          f"allowed {sorted(allowed)}")
-    for key in ("direction", "g_levels", "watch", "read_on", "gauge", "gauge_direction"):
+    for key in ("direction", "g_levels", "watch", "read_on", "gauge", "gauge_direction",
+                "materials", "f_levels", "values"):
         if key in d:
             d[key] = tuple(d[key])
     if isinstance(d.get("surface"), list):
@@ -239,10 +253,40 @@ class StageRecord:
     detail: dict
 
 
+def check_stages(stages, groups, materials) -> None:
+    """Check every stage (``stage.check``) and the sequence: a group excavated twice is
+    refused (ValueError naming the stage and group) before any compute."""
+    gone = {}
+    for i, st in enumerate(stages):
+        st.check(i, groups, materials)
+        if isinstance(st, Excavate):
+            if st.group in gone:
+                raise ValueError(f"stage {i} (excavate): group {st.group!r} was already "
+                                 f"excavated by stage {gone[st.group]}")
+            gone[st.group] = i
+
+
+def stage_table(records, points=None) -> str:
+    """A markdown table of the monitoring points' displacements (mm) at the end of each stage
+    (``StageRecord``s), with each stage's kind, verdict and steps: the stage-by-stage
+    displacement table of a staged excavation."""
+    points = list(points if points is not None else (records[0].points if records else {}))
+    head = "| stage | kind | verdict | steps | " + " | ".join(
+        f"{p} ux, uy (mm)" for p in points) + " |"
+    rows = [head, "|" + "---|" * (4 + len(points))]
+    for r in records:
+        cells = [f"{1e3 * r.points[p][0]:.2f}, {1e3 * r.points[p][1]:.2f}" for p in points]
+        rows.append(f"| {r.index} | {r.kind} | {r.verdict} | {r.steps} | " + " | ".join(cells)
+                    + " |")
+    return "\n".join(rows)
+
+
 def run_stages(model, stages, progress=None) -> list:
     """Run ``stages`` in order on ``model``; returns one StageRecord per stage. ``progress``:
     optional callable(str). A stage that raises stops the run; the records of the finished
-    stages are in the exception's ``records`` attribute."""
+    stages are in the exception's ``records`` attribute. The stages are checked first
+    (``check_stages``) against the model's groups and materials."""
+    check_stages(stages, set(model.blocks.groups), model.materials)
     records = []
     for i, st in enumerate(stages):
         t0 = time.perf_counter()

@@ -6,12 +6,13 @@ One step (``run_steps`` loops it inside numba, no Python in between)::
     f += contact forces                      forces.py / parallel.py (law.py)
     f += gravity                             components/gravity.py   (empty bundle: nothing)
     f += applied loads                       components/loads.py
+    f += water pressure                      components/water.py
     servo velocities from f                  components/servo.py: last, so it reacts to every
                                              force of the step
     for each free velocity component:  F_d = f - alpha |f| sign(v)        (local damping)
                                        v  += F_d / m_inertial * dt
     prescribed components:             v   = v_bc
-    x += v dt;  theta += omega dt;  checks (stability, search needed)
+    x += v dt;  theta += omega dt;  rot = R(theta);  checks (stability, search needed)
     kinetic damping (every ``kinetic_interval`` steps)
 
 Velocities live at half steps (t - dt/2, t + dt/2), positions at whole steps. With alpha = 0 the
@@ -34,14 +35,13 @@ a tenth of its radius, or turning 0.1 rad, in one step; ``bad`` names the block)
 """
 from __future__ import annotations
 
-import math
 
 import numpy as np
 from numba import njit
 
-from .components import add_gravity, add_loads, servo_velocities
+from .components import add_gravity, add_loads, add_water, servo_velocities
 from .forces import add_contact_forces
-from .kinematics import body_point, update_rotation
+from .kinematics import body_point, set_rotation
 from .parallel import add_contact_forces_parallel
 
 __all__ = ["run_steps", "frequency_bound", "free_kinetic_energy", "stop_free_motion",
@@ -51,7 +51,8 @@ DONE, NEED_SEARCH, UNSTABLE = 0, 1, 2
 
 
 @njit(cache=True)
-def run_steps(nsteps, time, integ, s, p, c, strength, cracks, par, gravity, loads, servo):
+def run_steps(nsteps, time, integ, s, p, c, strength, cracks, par, gravity, loads, water,
+              servo):
     """Advance up to ``nsteps`` steps; returns (steps done, time, status, block).
 
     ``integ`` Integrator, ``s`` BlockState, ``p`` BlockProps, ``c`` Contacts, ``strength`` the
@@ -67,13 +68,13 @@ def run_steps(nsteps, time, integ, s, p, c, strength, cracks, par, gravity, load
             add_contact_forces_parallel(c, strength, s, cracks, time, par)
         add_gravity(gravity, s, p)
         add_loads(loads, s, p)
+        add_water(water, s, p)
         servo_velocities(servo, s, p)
         kick = 0.5 * integ.dt if integ.kinetic[2] != 0.0 else integ.dt
         integ.kinetic[2] = 0.0
         status, bad = advance(s, p, integ, kick)
         if status == UNSTABLE:
             return step, time, UNSTABLE, bad
-        update_rotation(s.theta, s.rot, s.rot_half)
         time += integ.dt
         kinetic_damping(integ, s, p)
         if status == NEED_SEARCH:
@@ -90,10 +91,14 @@ def _damped(f, v, alpha):
 
 @njit(cache=True)
 def advance(s, p, integ, kick):
-    """Damp, integrate and check every block; returns (status, block).
+    """Damp, integrate, turn and check every block (one pass over the blocks); returns
+    (status, block).
 
     ``kick`` (s): the time of the velocity update (``dt``, or ``dt / 2`` on the first step after
-    a kinetic-damping stop); positions always move by v dt.
+    a kinetic-damping stop); positions always move by v dt, and each block's ``rot`` and
+    ``rot_half`` follow its new theta. The checks compare squares (no square roots): unstable
+    when |v| dt > radius / 10 or |omega| dt > 0.1 (or NaN), before the block moves; a search is
+    needed when |x - x_search| + |theta - theta_search| radius exceeds half the margin.
     """
     dt, alpha, vel, omega = integ.dt, integ.damping, s.vel, s.omega
     status, bad = DONE, -1
@@ -113,15 +118,17 @@ def advance(s, p, integ, kick):
             omega[i] = p.velocity_bc[i, 2]
         else:
             omega[i] += _damped(s.force[i, 2], omega[i], alpha) * p.inv_inertia[i] * kick
-        if not (math.hypot(vel[i, 0], vel[i, 1]) * dt <= 0.1 * p.radius[i]
+        v_max = 0.1 * p.radius[i] / dt
+        if not (vel[i, 0] * vel[i, 0] + vel[i, 1] * vel[i, 1] <= v_max * v_max
                 and abs(omega[i]) * dt <= 0.1):             # also catches NaN
             return UNSTABLE, i
         s.pos[i, 0] += vel[i, 0] * dt
         s.pos[i, 1] += vel[i, 1] * dt
         s.theta[i] += omega[i] * dt
-        moved = (math.hypot(s.pos[i, 0] - s.pos_search[i, 0], s.pos[i, 1] - s.pos_search[i, 1])
-                 + abs(s.theta[i] - s.theta_search[i]) * p.radius[i])
-        if moved > integ.half_margin:
+        set_rotation(s.theta, s.rot, s.rot_half, i)
+        left = integ.half_margin - abs(s.theta[i] - s.theta_search[i]) * p.radius[i]
+        dx, dy = s.pos[i, 0] - s.pos_search[i, 0], s.pos[i, 1] - s.pos_search[i, 1]
+        if left < 0.0 or dx * dx + dy * dy > left * left:
             status, bad = NEED_SEARCH, i
     return status, bad
 

@@ -11,11 +11,14 @@ the automatic time step.
 |---|---|---|
 | gravity (and the centrifuge g-level) | ``Gravity`` | ``add_gravity`` |
 | applied constant loads | ``Loads`` | ``add_loads`` |
+| water table: pressure on contacts and exposed faces | ``Water`` | ``add_water`` |
 | servo-controlled groups (constant force) | ``Servo`` | ``servo_velocities`` |
 """
 from .gravity import Gravity, add_gravity, gravity_bundle
 from .loads import Loads, add_loads, loads_bundle
 from .servo import Servo, servo_bundle, servo_velocities
+from .water import Water, add_water, exposed_faces, no_water, water_bundle
 
 __all__ = ["Gravity", "add_gravity", "gravity_bundle", "Loads", "add_loads", "loads_bundle",
-           "Servo", "servo_bundle", "servo_velocities"]
+           "Servo", "servo_bundle", "servo_velocities", "Water", "add_water", "water_bundle",
+           "no_water", "exposed_faces"]

@@ -1,0 +1,298 @@
+"""Searches for the load at which a model fails: one engine for every load parameter.
+
+A load parameter (a g-level, a strength-reduction factor F, a tensile strength, a water depth)
+is moved through ``levels``, each more severe than the one before (increasing or decreasing);
+at each level the model is solved towards equilibrium and judged:
+
+- ``Model.solve`` returns "failed" (displacement still growing without slowing down at the
+  step limit, or a block moved more than ``failure_displacement`` during that level), or
+- the largest block displacement during the level exceeds ``failure_displacement``, or
+- the model blows up numerically (``ModelUnstable``) after the level's displacement record
+  already passed one of these tests: the loose fragments of a failing slope move fast and can
+  break the explicit scheme, but the slope failed first (``LimitRecord.blowups``). A blow-up
+  before that ends the search with the verdict "unstable" and no failure level.
+
+A level that ends "moving" (not in equilibrium but slowing down) counts as stable; it is kept
+in the record so a reader can see how close the model came. The first failed level is
+``failure_level``; the limit lies between it and ``last_stable_level``. With ``refine_to`` the
+bracket is bisected from a snapshot of the last stable state (``Model.snapshot``) to that
+width, then, if the failed level came from a larger step, the parameter is moved on from the
+last stable state in steps of ``refine_to`` until a level fails: a change of load is applied
+over a few hundred steps, much faster than a slender model's lowest period, so its dynamic
+overshoot grows with the step, and the answer is that of a search in ``refine_to`` steps
+(``gravity_ramp`` gives the measured case).
+
+``apply(model, level_from, level_to)`` moves the parameter (``gravity_ramp`` ramps g over a
+few hundred steps; ``strength`` changes the strength table at once, which moves no stress).
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .model import ModelUnstable
+from .monitor import SolveResult, verdict
+
+__all__ = ["LimitRecord", "search_failure", "check_levels"]
+
+
+@dataclass
+class LimitRecord:
+    """What happened at each level of a search.
+
+    parameter : name of the load parameter ("g", "F", a material property, ...);
+    level : levels run; verdict : solve verdict per level; steps : steps per level;
+    max_displacement : the largest displacement (m) in each level; point_ux, point_uy : name ->
+    displacement (m) of each history point at the end of each level; cracks : total crack count
+    after each level; failure_level : the first failed level (None if none failed);
+    last_stable_level; seconds; unstable : None, or the ``ModelUnstable`` message when the model
+    became numerically unstable while it was not failing (the level is recorded "unstable" and
+    the search stops: a failure of the numerics, not of the rock, so no failure level);
+    blowups : [level, message] of levels at which the model blew up *after* it had started to
+    fail (recorded "failed"; the search goes on from the last stable state). Levels run by
+    ``refine_to`` (bisection, then the closing steps) are appended in the order they were run;
+    ``refined`` holds their number.
+    """
+
+    parameter: str = "level"
+    level: list = field(default_factory=list)
+    verdict: list = field(default_factory=list)
+    steps: list = field(default_factory=list)
+    max_displacement: list = field(default_factory=list)
+    point_ux: dict = field(default_factory=dict)
+    point_uy: dict = field(default_factory=dict)
+    cracks: list = field(default_factory=list)
+    failure_level: float | None = None
+    last_stable_level: float | None = None
+    refined: int = 0
+    seconds: float = 0.0
+    unstable: str | None = None
+    blowups: list = field(default_factory=list)
+
+
+def check_levels(levels, name="levels", positive=True) -> np.ndarray:
+    """``levels`` as a float array; ValueError unless finite, (> 0 when ``positive``) and
+    strictly monotone (a search moves one way)."""
+    lv = np.asarray(list(levels), dtype=float)
+    if lv.size == 0 or not np.all(np.isfinite(lv)) or (positive and np.any(lv <= 0)):
+        raise ValueError(f"{name} must be finite{' and > 0' if positive else ''}, got "
+                         f"{lv.tolist()}")
+    d = np.diff(lv)
+    if not (np.all(d > 0) or np.all(d < 0)):
+        raise ValueError(f"{name} must increase or decrease strictly, got {lv.tolist()}")
+    return lv
+
+
+def search_failure(model, levels, apply, record=None, ratio=1e-4, max_steps=20_000,
+                   failure_displacement=None, progress=None, stop_at_failure=True, creep=None,
+                   watch=None, refine_to=None, start=None) -> LimitRecord:
+    """Move the load parameter through ``levels`` and judge each (module docstring).
+
+    Parameters
+    ----------
+    model : dem_core.model.Model, with its boundary conditions set.
+    levels : strictly monotone sequence, each level more severe than the one before.
+    apply : callable(model, level_from, level_to) moving the parameter.
+    record : a LimitRecord (or subclass) to fill; default a new one.
+    ratio, max_steps : equilibrium ratio and step limit per level.
+    failure_displacement : m. A block (or watched point) moving more than this in a level fails.
+    progress : callable(str), optional.
+    stop_at_failure : stop at the first failed level (the model is then in its failed state).
+    creep : m, passed to ``Model.solve``: a displacement increment below this over the last
+        fifth of a level's steps is not "still moving".
+    watch : history-point names, optional: judge by their motion instead of any block's.
+    refine_to : bracket width (in the parameter's units), optional; needs stop_at_failure.
+    start : the parameter's value before the first level (what ``apply`` moves from).
+    """
+    levels = check_levels(levels, "levels", positive=False)
+    if refine_to is not None:
+        if not (np.isfinite(refine_to) and refine_to > 0):
+            raise ValueError(f"refine_to must be finite and > 0, got {refine_to}")
+        if not stop_at_failure:
+            raise ValueError("refine_to needs stop_at_failure=True")
+    rec = record if record is not None else LimitRecord()
+    t0 = time.perf_counter()
+    now = float(levels[0] if start is None else start)
+    stable_state = model.snapshot() if refine_to is not None else None
+    running = [now, 0]                  # the level being run and its first step (unstable)
+
+    def level(frm, to):
+        running[:] = [to, model.step]
+        apply(model, frm, to)
+        failed = _judge(model, rec, to, ratio, max_steps, failure_displacement, creep, watch,
+                        progress)
+        _record(rec, model, to, failed[1], failed[0], progress)
+        return failed[0]
+
+    try:
+        frm_failed = now
+        for v in levels:
+            failed = level(now, float(v))
+            frm_failed, now = now, float(v)
+            if failed:
+                rec.failure_level = float(v)
+                # a blown-up model cannot be loaded further (bisection restarts from a copy)
+                if stop_at_failure or (rec.blowups and rec.blowups[-1][0] == v):
+                    break
+            elif rec.failure_level is None:
+                rec.last_stable_level = float(v)
+                if refine_to is not None:
+                    stable_state = model.snapshot()
+        if refine_to is not None and rec.failure_level is not None:
+            low = rec.last_stable_level if rec.last_stable_level is not None else (
+                float(levels[0]) if start is None else float(start))
+            jump = _bisect(rec, model, level, stable_state, refine_to, low,
+                           abs(rec.failure_level - frm_failed))
+            if jump > refine_to * (1 + 1e-9):
+                _march(rec, model, level, refine_to, low, float(levels[-1]))
+    except ModelUnstable as error:
+        _record_unstable(rec, model, running[0], model.step - running[1], str(error), progress)
+    rec.seconds = time.perf_counter() - t0
+    return rec
+
+
+def _judge(model, rec, value, ratio, max_steps, failure_displacement, creep, watch, progress):
+    """Solve one level; (failed, SolveResult). A blow-up of a level already failing is failure
+    (recorded in ``rec.blowups``); any other blow-up propagates."""
+    trace = ([0], [0.0])            # the solve's checks: steps, displacement (m)
+    try:
+        if watch:
+            res = _solve_watching(model, list(watch), ratio, max_steps, failure_displacement,
+                                  creep, trace=trace)
+        else:
+            res = model.solve(ratio=ratio, max_steps=max_steps,
+                              failure_displacement=failure_displacement, creep=creep,
+                              trace=trace)
+    except ModelUnstable as error:
+        res = _failing_before_blow_up(trace, failure_displacement, creep)
+        if res is None:
+            raise
+        rec.blowups.append([float(value), str(error)])
+        if progress:
+            progress(f"{rec.parameter} = {value:.4g}: the failing model blew up: {error}")
+    failed = res.verdict == "failed" or (
+        failure_displacement is not None and res.max_displacement > failure_displacement)
+    return failed, res
+
+
+def _bisect(rec, model, level, stable_state, refine_to, low, jump):
+    """Narrow [last stable ``low``, failed] to ``refine_to`` from the stable state. Returns
+    the step by which the failed level was reached (``jump`` for the level the bisection starts
+    from) and leaves the model in the failed state, or in the last stable state when that step
+    was larger than ``refine_to`` (``_march`` goes on)."""
+    failed_state = model.snapshot()
+    while abs(rec.failure_level - low) > refine_to * (1 + 1e-9):
+        mid = 0.5 * (low + rec.failure_level)
+        model.restore(stable_state)
+        rec.refined += 1
+        if level(low, mid):
+            rec.failure_level, jump = mid, abs(mid - low)
+            failed_state = model.snapshot()
+        else:
+            low = rec.last_stable_level = mid
+            stable_state = model.snapshot()
+    model.restore(stable_state if jump > refine_to * (1 + 1e-9) else failed_state)
+    return jump
+
+
+def _march(rec, model, level, step, low, end):
+    """From the last stable state (the model's), move the parameter by ``step`` per level
+    towards ``end`` until a level fails or ``end`` stands (then no failure level)."""
+    low = rec.last_stable_level if rec.last_stable_level is not None else low
+    sign = 1.0 if end > low else -1.0
+    rec.failure_level = None
+    while sign * (end - low) > 1e-12 * max(1.0, abs(end)):
+        v = low + sign * min(step, abs(end - low))
+        rec.refined += 1
+        if level(low, v):
+            rec.failure_level = v
+            return
+        low = rec.last_stable_level = v
+
+
+def _record_points_and_cracks(rec, model):
+    """Append the history points' displacements and the total crack count."""
+    for name in model.points:
+        ux, uy, _, _ = model.point_motion(name)
+        rec.point_ux.setdefault(name, []).append(ux)
+        rec.point_uy.setdefault(name, []).append(uy)
+    counts = model.crack_counts()
+    rec.cracks.append(counts["tension"] + counts["shear"])
+
+
+def _record(rec, model, value, res, failed, progress):
+    rec.level.append(float(value))
+    rec.verdict.append("failed" if failed else res.verdict)
+    rec.steps.append(res.steps)
+    rec.max_displacement.append(res.max_displacement)
+    _record_points_and_cracks(rec, model)
+    if progress:
+        progress(f"{rec.parameter} = {value:.4g}: {rec.verdict[-1]} after {res.steps} steps, "
+                 f"ratio {res.ratio:.2e}, cracks {rec.cracks[-1]}")
+
+
+def _record_unstable(rec, model, value, steps, message, progress):
+    """The level at which the model became unstable: verdict "unstable", the steps run in it,
+    no largest displacement (None: a blown-up block's is meaningless), the points as left."""
+    rec.unstable = message
+    rec.level.append(float(value))
+    rec.verdict.append("unstable")
+    rec.steps.append(int(steps))
+    rec.max_displacement.append(None)
+    _record_points_and_cracks(rec, model)
+    if progress:
+        progress(f"{rec.parameter} = {value:.4g}: numerically unstable, the search stops: "
+                 f"{message}")
+
+
+def _failing_before_blow_up(trace, failure_displacement, creep):
+    """A "failed" SolveResult if the displacement record ``trace`` (steps, m) of a level
+    that blew up already shows the slope failing, else None. Failing: beyond
+    ``failure_displacement``, or still growing without slowing down (``monitor.verdict``, the
+    test a level gets at its step limit). Judged on the checks before the blow-up only."""
+    steps, disp = trace
+    if len(steps) < 2:
+        return None
+    d = max(disp)
+    if failure_displacement is not None and d > failure_displacement:
+        return SolveResult("failed", steps[-1], float("nan"), d, "past the failure "
+                           "displacement before the model blew up")
+    v, why = verdict(steps, disp, 0.0 if creep is None else creep)
+    if v != "failed":
+        return None
+    return SolveResult("failed", steps[-1], float("nan"), d, why + " (then the model blew up)")
+
+
+def _solve_watching(model, names, ratio, max_steps, failure_displacement, creep, chunk=None,
+                    trace=None):
+    """``Model.solve`` with the displacement test on history points ``names`` (see
+    ``raise_gravity``): equilibrium at ``ratio``, failed when a point moved more than
+    ``failure_displacement`` in this level or, at the step limit, by ``monitor.verdict`` on the
+    points' displacement. ``trace``: optional (steps, displacements) lists the checks are
+    appended to (read after a ``ModelUnstable``)."""
+    missing = [n for n in names if n not in model.points]
+    if missing:
+        raise ValueError(f"no history point(s) {missing}; add them with add_history_point")
+    chunk = int(chunk or max(model.history.every, 100))
+    start = np.array([model.point_motion(n)[:2] for n in names])
+    steps, disp = trace if trace is not None else ([0], [0.0])
+    done, r = 0, float("inf")
+    creep = 0.0 if creep is None else creep
+    while done < max_steps:
+        k = min(chunk, max_steps - done)
+        model.cycle(k)
+        done += k
+        r = model.unbalanced_ratio()
+        now = np.array([model.point_motion(n)[:2] for n in names])
+        d = float(np.hypot(*(now - start).T).max())
+        steps.append(done)
+        disp.append(d)
+        if r <= ratio:
+            return SolveResult("equilibrium", done, r, max(disp), f"ratio {r:.3g} <= {ratio:.3g}")
+        if failure_displacement is not None and d > failure_displacement:
+            return SolveResult("failed", done, r, d, f"a watched point moved {d:.3g} m > "
+                               f"{failure_displacement} m")
+    v, why = verdict(steps, disp, creep)
+    return SolveResult(v, done, r, max(disp), why)

@@ -1,0 +1,156 @@
+"""Strength searches as stages: the factor of safety by strength reduction, and a strength
+schedule that lowers one property until the model fails.
+
+Both are ``limit.search_failure`` (the g-ramp's engine: the same verdict, failure test,
+bisection and closing steps) with a strength as the load parameter. A strength change moves no
+stress (the incremental law, ``law.py``), so each level starts from the equilibrium of the one
+before; the engine solves it to equilibrium or to the failure verdict.
+
+Strength reduction (kind "factor_of_safety"), as 3DEC's and ``continuum_ref.ssr``'s: the chosen
+materials' cohesion and friction are divided by F,
+
+    c_F = c / F,    tan(phi_F) = tan(phi) / F          (peak and residual values)
+    T_F = T / F                                         (only with ``tension=True``)
+
+and F is raised through ``f_levels``; the factor of safety is the largest F that stands (the
+last stable level), bracketed by the first that fails to within ``refine_to``. Reference:
+Dawson, Roth & Drescher (1999) for the method; Itasca 3DEC manual, "factor of safety".
+
+Strength schedule (kind "strength_schedule"): one property of one material (``tensile_strength``
+or ``cohesion`` in Pa, ``friction`` in degrees) set to each of ``values`` in turn (each lower
+than the one before and than the material's own value), solved each time; with ``refine_to``
+the value at failure is bisected. The thesis's weathering of Checkerboard Creek is such a
+schedule (ch. 7).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from .limit import LimitRecord, check_levels, search_failure
+
+__all__ = ["reduced_strength", "FactorOfSafety", "StrengthSchedule"]
+
+SCHEDULED = ("tensile_strength", "cohesion", "friction")
+
+
+def reduced_strength(material, factor, tension=False) -> dict:
+    """The strength fields of ``material`` (``materials.Material``) divided by ``factor``
+    (module docstring): a dict for ``Model.set_material``."""
+    def phi(deg):
+        return math.degrees(math.atan(math.tan(math.radians(deg)) / factor))
+    out = {"cohesion": material.cohesion / factor, "friction": phi(material.friction),
+           "residual_cohesion": material.residual_cohesion / factor}
+    if material.residual_friction is not None:
+        out["residual_friction"] = phi(material.residual_friction)
+    if tension:
+        out["tensile_strength"] = material.tensile_strength / factor
+        out["residual_tensile_strength"] = material.residual_tensile_strength / factor
+    return out
+
+
+def _check_search(where, ratio, max_steps, refine_to, failure_displacement):
+    if not (ratio > 0 and max_steps > 0):
+        raise ValueError(f"{where}: ratio {ratio!r} and max_steps {max_steps!r} must be > 0")
+    if refine_to is not None and not (math.isfinite(refine_to) and refine_to > 0):
+        raise ValueError(f"{where}: refine_to {refine_to!r} must be > 0")
+    if failure_displacement is not None and not failure_displacement > 0:
+        raise ValueError(f"{where}: failure_displacement {failure_displacement!r} must be > 0 m")
+
+
+def _known_materials(where, names, materials):
+    if not names:
+        raise ValueError(f"{where}: name at least one material")
+    for n in names:
+        if n not in materials:
+            raise ValueError(f"{where} names unknown material {n!r}; materials are "
+                             f"{sorted(materials)}")
+
+
+def _detail(rec, last_key, first_key, what) -> tuple:
+    verdict = "failed" if rec.failure_level is not None else (
+        "unstable" if rec.unstable else "stood")
+    return int(sum(rec.steps)), verdict, {last_key: rec.last_stable_level,
+                                          first_key: rec.failure_level,
+                                          what: list(rec.level),
+                                          "verdicts": list(rec.verdict), "search": rec}
+
+
+@dataclass(frozen=True)
+class FactorOfSafety:
+    """Strength-reduction factor of safety of ``materials`` (module docstring). ``f_levels``:
+    increasing F > 0 to try; ``refine_to``: bracket width in F; ``tension``: reduce T too;
+    the other fields as ``limit.search_failure``. Detail: ``factor_of_safety`` (the last F that
+    stood; None if the first failed), ``first_failed``, ``F``, ``verdicts``, ``search``."""
+
+    materials: tuple
+    f_levels: tuple = (1.0, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0)
+    refine_to: float | None = 0.02
+    tension: bool = False
+    ratio: float = 1e-5
+    max_steps: int = 20_000
+    failure_displacement: float | None = None
+    creep: float | None = None
+    watch: tuple = ()
+
+    def check(self, i, groups, materials):
+        where = f"stage {i} (factor_of_safety)"
+        _known_materials(where, self.materials, materials)
+        check_levels(self.f_levels, f"{where}: f_levels")
+        if list(self.f_levels) != sorted(self.f_levels):
+            raise ValueError(f"{where}: f_levels must increase, got {list(self.f_levels)}")
+        _check_search(where, self.ratio, self.max_steps, self.refine_to,
+                      self.failure_displacement)
+
+    def run(self, model):
+        base = {n: model.materials[n] for n in self.materials}
+
+        def apply(m, f_from, f):
+            for n, mat in base.items():
+                m.set_material(n, **reduced_strength(mat, f, self.tension))
+        rec = search_failure(model, self.f_levels, apply, LimitRecord("F"), ratio=self.ratio,
+                             max_steps=self.max_steps,
+                             failure_displacement=self.failure_displacement, creep=self.creep,
+                             watch=tuple(self.watch), refine_to=self.refine_to)
+        return _detail(rec, "factor_of_safety", "first_failed", "F")
+
+
+@dataclass(frozen=True)
+class StrengthSchedule:
+    """Lower ``property`` (one of SCHEDULED) of ``material`` through ``values`` (module
+    docstring). Detail: ``last_stable_value``, ``failure_value``, ``values``, ``verdicts``,
+    ``search``."""
+
+    material: str
+    property: str
+    values: tuple
+    refine_to: float | None = None
+    ratio: float = 1e-5
+    max_steps: int = 20_000
+    failure_displacement: float | None = None
+    creep: float | None = None
+    watch: tuple = ()
+
+    def check(self, i, groups, materials):
+        where = f"stage {i} (strength_schedule)"
+        _known_materials(where, [self.material], materials)
+        if self.property not in SCHEDULED:
+            raise ValueError(f"{where}: property {self.property!r} must be one of {SCHEDULED}")
+        v = check_levels(self.values, f"{where}: values", positive=False)
+        now = getattr(materials[self.material], self.property)
+        if not (v[0] < now and (len(v) == 1 or v[1] < v[0])) or v.min() < 0:
+            raise ValueError(f"{where}: a schedule must lower {self.property} of "
+                             f"{self.material!r} (now {now!r}) through decreasing values >= 0, "
+                             f"got {list(self.values)}")
+        _check_search(where, self.ratio, self.max_steps, self.refine_to,
+                      self.failure_displacement)
+
+    def run(self, model):
+        now = getattr(model.materials[self.material], self.property)
+        rec = search_failure(model, self.values,
+                             lambda m, a, b: m.set_material(self.material, **{self.property: b}),
+                             LimitRecord(self.property), ratio=self.ratio,
+                             max_steps=self.max_steps,
+                             failure_displacement=self.failure_displacement, creep=self.creep,
+                             watch=tuple(self.watch), refine_to=self.refine_to, start=now)
+        return _detail(rec, "last_stable_value", "failure_value", "values")
