@@ -1,8 +1,8 @@
 """Continuum (finite element) reference for the rock-slope toolkit: DOLFINx 0.5.2 + gmsh.
 
-Importing the package is cheap and needs no DOLFINx: `hoek_brown`, `materials` and
-`return_mapping` are plain numpy. The DOLFINx parts (`mesh`, `model`, `ssr`, `plot`) import
-DOLFINx when they are imported.
+Importing the package is cheap and needs no DOLFINx: `hoek_brown`, `materials`,
+`return_mapping`, `newton` and `limit_equilibrium` (Bishop's method) are plain numpy/scipy.
+The DOLFINx parts (`mesh`, `model`, `ssr`, `plot`) import DOLFINx when they are imported.
 
 Ten-line example (a Mohr-Coulomb slope raised to failure in a centrifuge)::
 

@@ -15,7 +15,7 @@ import numpy as np
 from .mesh import mesh_from_geometry
 
 __all__ = ["mesh_from_scene", "apply_boundaries", "side_sets", "scene_bounds", "scene_top",
-           "apply_insitu"]
+           "apply_insitu", "apply_water"]
 
 
 def mesh_from_scene(scene, h, geometry=None, **options):
@@ -80,3 +80,10 @@ def scene_top(scene) -> np.ndarray:
 def apply_insitu(model, scene, stage) -> None:
     """Give ``model`` (ContinuumModel) the in-situ stress of a scene's ``insitu`` stage."""
     model.set_stress_field(stage, top=scene_top(scene))
+
+
+def apply_water(model, water_table) -> None:
+    """Give ``model`` the pore pressure of a ``dem_core.water.WaterTable`` (effective-stress
+    analysis: ``ContinuumModel.set_pore_pressure``); set it before solving gravity."""
+    water_table.check()
+    model.set_pore_pressure(water_table.pressure)

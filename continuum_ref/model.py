@@ -12,6 +12,12 @@ yield history); a failed step restores it.
 
 Excavation: the removed cells become a soft elastic "void" (E x 1e-6, no weight) and their
 stresses are released gradually (release factor 0 -> 1), a standard fixed-mesh technique.
+
+Pore pressure (`set_pore_pressure`): effective stress (Terzaghi). The plasticity and the
+stored state (`sig_n`) are effective stresses sigma'; equilibrium uses the total stress
+sigma = sigma' - p m, m = [1, 1, 1, 0] (Mandel, tension positive, p compression positive), and
+the weight is the total (saturated where wet) density. p is given at 1 g and scales with the
+g-level like the weight (hydrostatic water in a centrifuge weighs N times more).
 """
 import math
 from dataclasses import dataclass
@@ -97,7 +103,7 @@ class ContinuumModel:
         self._qdeg = max(self._qdeg, 1)
         qpts, self._qwts = dx.quadrature_points(self._qdeg)
         self._nq = len(qpts)
-        W4 = dx.quadrature_space(msh, self._qdeg, 4)
+        self._W4 = W4 = dx.quadrature_space(msh, self._qdeg, 4)
         W16 = dx.quadrature_space(msh, self._qdeg, 16)
         self._b4, self._b16 = dx.block_index(W4, ncells), dx.block_index(W16, ncells)
         self.u = fem.Function(self.V, name="displacement")
@@ -122,6 +128,8 @@ class ContinuumModel:
         self._load_scale = 0.0                     # scales prescribed values and tractions
         self._released = None                      # (points, stress) being released
         self._release = 0.0
+        self._pore = None                          # pore pressure at 1 g (npts,), Pa
+        self._pore_fn = None                       # -g p m at quadrature points (forms)
         self.history = {name: [] for name in mesh_data.points}
         self._forms = None
         self._qpts = qpts
@@ -190,6 +198,10 @@ class ContinuumModel:
         sig = self._sig
         C = ufl.as_matrix([[self._tan[4 * i + j] for j in range(4)] for i in range(4)])
         F = ufl.inner(sig, _eps_mandel(v)) * dxq - ufl.inner(self.rho * self._g_vec, v) * ufl.dx
+        if self._pore is not None:                 # total stress = effective - p m
+            self._pore_fn = fem.Function(self._W4)
+            self._update_pore_values()
+            F += ufl.inner(self._pore_fn, _eps_mandel(v)) * dxq
         if self._tractions:
             tags = dx.facet_tags(msh, [(tag, where) for tag, where, _, _ in self._tractions])
             ds = ufl.Measure("ds", domain=msh, subdomain_data=tags)
@@ -253,16 +265,20 @@ class ContinuumModel:
 
     def _solve_update(self):
         dx.assemble_matrix(self._A, self._J, self._bcs())
+        self._u_prev = self.u.x.array.copy()
         if not dx.solve_linear(self._ksp, self._A, self._b, self._du.vector):
             # the tangent could not be factorised (e.g. a singular plastic tangent): this
             # Newton attempt fails (NaN residual) and the load path halves the step; a fresh
             # solver is made so the failed factorisation does not poison the retry
             self._ksp.destroy()
             self._ksp = dx.lu_solver(self._A)
-            self.u.x.array[:] = np.nan
-            return
+            self._du.x.array[:] = np.nan
         self._du.x.scatter_forward()
-        self.u.x.array[:] -= self._du.x.array
+        self._scale_step(1.0)
+
+    def _scale_step(self, alpha):
+        """u = u_before - alpha du: the line search's trial (``newton``)."""
+        self.u.x.array[:] = self._u_prev - alpha * self._du.x.array
         self.u.x.scatter_forward()
 
     def _attempt(self):
@@ -271,7 +287,8 @@ class ContinuumModel:
         # plastic in a layer of elements that ends up elastic, and Newton then diverges).
         if self._forms is None:
             self._build_forms()
-        return newton(self._residual, self._solve_update, self.newton_settings)
+        return newton(self._residual, self._solve_update, self.newton_settings,
+                      scale_step=self._scale_step)
 
     def _snapshot(self):
         return (self.u.x.array.copy(), self.sig_n.copy(), self.eps_n.copy(), self.mode.copy(),
@@ -317,9 +334,40 @@ class ContinuumModel:
 
     # ------------------------------------------------------------------ stages
     def set_gravity(self, g_level):
-        """Set the body force rho * g_level * 9.81 m/s2 downwards (no solve)."""
+        """Set the body force rho * g_level * 9.81 m/s2 downwards (no solve); a pore pressure
+        scales with it."""
         self.g_level = float(g_level)
         self._g_vec.value = np.array([0.0, -GRAVITY * self.g_level])
+        self._update_pore_values()
+
+    def set_pore_pressure(self, pressure):
+        """Pore pressure for an effective-stress analysis (module docstring).
+
+        Parameters
+        ----------
+        pressure : callable p(x, y) -> Pa, or None
+            Pore pressure at 1 g, compression positive (e.g. ``dem_core.water.WaterTable(...)
+            .pressure``), evaluated once at every quadrature point; None removes it. It is
+            applied at the current g-level without a solve: set it before `solve_gravity`, or
+            re-equilibrate afterwards. SSR then reduces the effective strength c', tan(phi').
+        """
+        if pressure is None:
+            self._pore, self._pore_fn, self._forms = None, None, None
+            return
+        x, y = self._qp_xy[:, 0], self._qp_xy[:, 1]
+        p = np.broadcast_to(np.asarray(pressure(x, y), dtype=float), x.shape).copy()
+        if not np.all(np.isfinite(p)):
+            raise ValueError(f"pore pressure is not finite at {np.sum(~np.isfinite(p))} points")
+        self._pore, self._forms = p, None
+
+    def pore_pressure(self):
+        """Pore pressure (npts,) in Pa at the quadrature points at the current g-level."""
+        return np.zeros(len(self._qp_xy)) if self._pore is None else self._pore * self.g_level
+
+    def _update_pore_values(self):
+        if self._pore_fn is not None:
+            m = np.array([1.0, 1.0, 1.0, 0.0])
+            self._pore_fn.x.array.reshape(-1, 4)[self._b4] = -np.outer(self.pore_pressure(), m)
 
     def solve_gravity(self, g_level, first_step=None, min_step=None):
         """Raise (or lower) gravity from the current level to `g_level` (multiples of 9.81 m/s2),
@@ -343,9 +391,11 @@ class ContinuumModel:
 
     def set_initial_stress(self, k0, surface=None, g_level=None):
         """Geostatic stress: sigma_v = rho g g_level (surface(x) - y), sigma_h = sigma_zz =
-        k0 sigma_v (both compressive), no shear. Sets gravity to g_level (default: current,
-        or 1 if zero). Displacements are not changed; call `solve_gravity` (same level) to
-        re-equilibrate where the surface is not flat, then `reset_displacement`.
+        k0 sigma_v (both compressive), no shear; with a pore pressure p the ratio applies to
+        the effective stresses (sigma'_v = sigma_v - p, sigma'_h = k0 sigma'_v). Sets gravity
+        to g_level (default: current, or 1 if zero). Displacements are not changed; call
+        `solve_gravity` (same level) to re-equilibrate where the surface is not flat, then
+        `reset_displacement`.
 
         surface : callable x (n,) -> elevation (m), default: the top of the mesh.
         """
@@ -356,7 +406,7 @@ class ContinuumModel:
         x, y = self._qp_xy[:, 0], self._qp_xy[:, 1]
         top = np.full_like(x, self.mesh.geometry.x[:, 1].max()) if surface is None else surface(x)
         rho = np.repeat(self.rho.x.array[self._cells], self._nq)
-        sv = rho * GRAVITY * g_level * np.maximum(top - y, 0.0)
+        sv = rho * GRAVITY * g_level * np.maximum(top - y, 0.0) - self.pore_pressure()
         self.sig_n = np.stack([-k0 * sv, -sv, -k0 * sv, 0.0 * sv], axis=1)
         self._sig_now = self.sig_n.copy()
 
@@ -437,6 +487,28 @@ class ContinuumModel:
         plain = dx.assemble_vector_plain(self._b_plain, self._F)
         return float(self.mesh.comm.allreduce(np.sum(plain.array[dofs])))
 
+    def elastic_displacement(self):
+        """Largest nodal displacement (m) of the linear elastic response to the current loads
+        (weight at the current g-level, tractions, pore pressure, prescribed displacements)
+        from a stress-free state: the displacement scale `ssr` measures a mechanism against.
+        The model's state is not changed."""
+        if self._forms is None:
+            self._build_forms()
+        saved = (self.u.x.array.copy(), self._sig.x.array.copy(), self._tan.x.array.copy())
+        tan = np.empty((len(self._point_material), 4, 4))
+        for k, mat in enumerate(self.materials):
+            tan[self._point_material == k] = rm.elastic_tangent(mat.E, mat.nu)
+        self._tan.x.array.reshape(-1, 16)[self._b16] = tan.reshape(-1, 16)
+        self._sig.x.array[:] = 0.0
+        self.u.x.array[:] = 0.0
+        dx.assemble_residual(self._b, self._F, self._J, self._bcs(), self.u.vector)
+        dx.assemble_matrix(self._A, self._J, self._bcs())
+        ok = dx.solve_linear(self._ksp, self._A, self._b, self._du.vector)
+        scale = float(np.max(np.abs(self._du.x.array))) if ok else math.nan
+        self.u.x.array[:], self._sig.x.array[:], self._tan.x.array[:] = saved
+        self.u.x.scatter_forward()
+        return scale
+
     def save_state(self):
         """A copy of the converged state (displacement, stresses, strains, yield flags, loads)."""
         return (self._snapshot(), self.g_level, self._load_scale, list(self.materials))
@@ -465,9 +537,13 @@ class ContinuumModel:
         v = values.reshape((len(self._cells), self._nq) + values.shape[1:])
         return np.einsum("p,cp...->c...", w, v)
 
-    def stress(self):
-        """Cell-averaged stress (ncells, 4): [xx, yy, zz, xy] in Pa, tension positive."""
-        s = self.cell_average(self.sig_n)
+    def stress(self, total=False):
+        """Cell-averaged stress (ncells, 4): [xx, yy, zz, xy] in Pa, tension positive; effective
+        stress where a pore pressure is set, unless total=True (effective - p)."""
+        sig = self.sig_n.copy()
+        if total:
+            sig[:, :3] -= self.pore_pressure()[:, None]
+        s = self.cell_average(sig)
         s[:, 3] /= math.sqrt(2.0)
         return s
 

@@ -5,9 +5,22 @@ The model supplies three callables; this module only decides when to stop and ho
 Convergence of one Newton solve: ||R_free|| <= rtol * max(||reactions||, ||R_0||) + atol,
 where R_free is the residual at free dofs and the reactions (residual at constrained dofs) give
 the force scale of the problem (they balance gravity, tractions and prescribed displacements).
-**Non-convergence** (the documented failure signal used by `ssr`): the criterion above is not met
-within `max_iterations`, or the residual becomes NaN, or it grows beyond `divergence` times its
-initial value.
+**Non-convergence** (what `load_path` answers with a smaller step): the criterion above is not
+met within `max_iterations`, or the residual becomes NaN, or it grows beyond `divergence` times
+its initial value, or (if `stall` > 0) it is still above its initial value after `stall`
+iterations (a fail-fast rule for limit searches, where most failing attempts wander at
+1e3-1e4 times their initial residual for all `max_iterations`). Whether non-convergence at the
+smallest step is a *limit* is decided by the caller (`continuum_ref.ssr`).
+
+Line search (when the caller can scale a correction, `scale_step`): a full Newton correction
+that does not lower the residual norm, ||R(u - du)|| > (1 - 1e-4) ||R(u)||, is halved up to
+`line_search` times (u - du/2, u - du/4, ...) and the trial with the smallest residual is kept.
+Corrections that still carry prescribed boundary values are always taken in full (the lifting
+imposes them exactly). Off by default: on the non-associated (psi = 0) slope of
+tests/test_continuum_ssr.py, where a full correction made the residual jump by 1e2-1e4, it
+turned divergence into stagnation without moving the limit, and with psi = phi it made the
+searches 2-6 times slower. Reference: Dennis & Schnabel (1996), Numerical Methods for
+Unconstrained Optimization and Nonlinear Equations, ch. 6.
 """
 from dataclasses import dataclass, field
 
@@ -24,6 +37,9 @@ class NewtonSettings:
     atol: float = 1e-10
     max_iterations: int = 25
     divergence: float = 1e8
+    line_search: int = 0            # halvings tried (0: full Newton steps)
+    stall: int = 0                  # fail if the residual is still above its start value
+                                    # after this many iterations (0: off)
 
 
 @dataclass
@@ -33,7 +49,7 @@ class NewtonResult:
     residuals: list = field(default_factory=list)
 
 
-def newton(residual, solve_and_update, settings):
+def newton(residual, solve_and_update, settings, scale_step=None):
     """Run Newton iterations.
 
     Parameters
@@ -44,23 +60,49 @@ def newton(residual, solve_and_update, settings):
     solve_and_update : callable () -> None
         Assembles the tangent, solves for the correction and updates the displacement.
     settings : NewtonSettings
+    scale_step : callable (alpha) -> None, optional
+        Replaces the last full correction by alpha times it (enables the line search).
     """
     history = []
     ref = None
+    r, reaction, pending = residual()
     for it in range(settings.max_iterations + 1):
-        r, reaction, pending = residual()
         history.append(r)
         if not np.isfinite(r):
             return NewtonResult(False, it, history)
         ref = reaction if ref is None else max(ref, reaction)
         if not pending and r <= settings.rtol * ref + settings.atol:
             return NewtonResult(True, it, history)
-        if r > settings.divergence * max(history[0], settings.atol):
+        if r > settings.divergence * max(history[0], settings.atol) or (
+                0 < settings.stall <= it and r > history[0]):
             return NewtonResult(False, it, history)
         if it == settings.max_iterations:
             break
         solve_and_update()
+        r_full = residual()
+        search = scale_step is not None and settings.line_search > 0 and not pending
+        r, reaction, pending = _line_search(residual, scale_step, r, r_full,
+                                            settings.line_search) if search else r_full
     return NewtonResult(False, settings.max_iterations, history)
+
+
+def _line_search(residual, scale_step, r0, full, halvings):
+    """Backtrack on the residual norm from a full correction (module docstring)."""
+    if np.isfinite(full[0]) and full[0] <= (1.0 - 1e-4) * r0:
+        return full
+    best, best_alpha, alpha = full, 1.0, 1.0
+    for _ in range(halvings):
+        alpha *= 0.5
+        scale_step(alpha)
+        trial = residual()
+        if np.isfinite(trial[0]) and not trial[0] >= best[0]:
+            best, best_alpha = trial, alpha
+        if best_alpha == alpha and trial[0] <= (1.0 - 1e-4 * alpha) * r0:
+            return trial
+    if best_alpha != alpha:
+        scale_step(best_alpha)
+        best = residual()
+    return best
 
 
 @dataclass

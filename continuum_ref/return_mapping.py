@@ -136,7 +136,8 @@ def mohr_coulomb_principal(s, mat):
             mult = (s[idx] @ A[J].T - b[J]) @ Minv.T   # (m, k) plastic multipliers (x G)
             cand = s[idx] - mult @ DG.T
             viol = np.max(cand @ A.T - b - tol[idx, None], axis=1)
-            ok = (viol <= 0.0) & np.all(mult >= -1e-12 * scale[idx, None], axis=1)
+            ordered = np.all(np.diff(cand, axis=1) <= 1e-9 * scale[idx, None], axis=1)
+            ok = (viol <= 0.0) & ordered & np.all(mult >= -1e-12 * scale[idx, None], axis=1)
             better = viol < best_violation[idx]
             best_violation[idx[better]], best[idx[better]] = viol[better], cand[better]
             hit = idx[ok]
@@ -144,9 +145,23 @@ def mohr_coulomb_principal(s, mat):
             jac[hit] = np.eye(3) - DG @ Minv @ A[J]
             mode[hit] = np.bitwise_or.reduce(kind[J])
             todo[hit] = False
-    if todo.any():   # only possible for non-associated flow on degenerate corners
-        s_new[todo], jac[todo], mode[todo] = best[todo], 0.0, SHEAR | TENSION
+    if todo.any():   # non-associated flow beyond the apex (or a degenerate corner)
+        apex = _apex(mat)
+        s_new[todo] = best[todo] if apex is None else apex
+        jac[todo], mode[todo] = 0.0, SHEAR | TENSION
     return s_new, jac, mode
+
+
+def _apex(mat):
+    """Hydrostatic apex of the Mohr-Coulomb + cut-off polyhedron, compression positive (Pa):
+    -min(c cot(phi), T); None for Tresca without a cut-off (no apex). Non-associated flow
+    (psi < phi) cannot return a trial state beyond the apex by its own flow direction (with
+    psi = 0 the flow has no volume change); such states go to the apex with a zero tangent,
+    the usual convention (de Souza Neto et al. 2008, sec. 8.2)."""
+    tips = [] if mat.friction == 0.0 else [mat.cohesion / math.tan(math.radians(mat.friction))]
+    if mat.tensile_strength is not None:
+        tips.append(mat.tensile_strength)
+    return -min(tips) if tips else None
 
 
 # ------------------------------------------------------------------------------------------
