@@ -1,19 +1,11 @@
 """Centrifuge loading: raise the g-level step by step until the model fails.
 
-At each g-level the model is solved towards equilibrium (``Model.solve``); the first level at
-which it does not come to equilibrium *and* is judged failed is the failure g-level. The search
-is ``limit.search_failure`` (shared with the strength searches) with g as its parameter:
-
-- ``Model.solve`` returns "failed" (displacement still growing without slowing down at the
-  step limit, or a block moved more than ``failure_displacement`` during that level), or
-- the largest block displacement during the level exceeds ``failure_displacement``, or
-- the model blows up numerically (``ModelUnstable``) after the level's displacement record
-  already passed one of these tests: the loose fragments of a failing slope move fast and can
-  break the explicit scheme, but the slope failed first (``RampRecord.blowups``). A blow-up
-  before that ends the ramp with the verdict "unstable" and no failure g.
-
-A level that ends "moving" (not in equilibrium but slowing down) counts as stable; it is kept in
-the record so a reader can see how close the model came. The thesis raised gravity 1 g at a time
+At each g-level the model is solved towards equilibrium (``Model.solve``); the first level
+judged failed is the failure g-level. The search and its failure test are
+``limit.search_failure`` (shared with the strength searches) with g as its parameter: a level
+fails when the solve ends "failed" or a block (or watched point) moved more than
+``failure_displacement``, or when the model blew up after its displacement record had passed
+that test; a level that ends "moving" counts as stable. The thesis raised gravity 1 g at a time
 and called the model failed when it did not come to equilibrium with displacements growing
 (ch. 3, 4). ``failure_g`` is the first failed level; the failure load lies between it and the
 last stable level before it.

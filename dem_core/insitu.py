@@ -31,6 +31,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .water import check_surface, surface_height
+
 __all__ = ["InSitu", "top_surface", "model_top", "strong_then_real"]
 
 
@@ -107,17 +109,8 @@ class InSitu:
                 raise ValueError(f"{where}: k = sh / sv = {self.k!r} must be finite and >= 0")
             if self.sxx or self.gxx:
                 raise ValueError(f"{where}: give either k or sxx, gxx (k sets sxx = k syy)")
-        s = self.surface
-        if s is not None and not isinstance(s, (int, float)):
-            p = np.asarray(s, dtype=np.float64)
-            if p.ndim != 2 or p.shape[1] != 2 or len(p) < 2 or not np.all(np.isfinite(p)):
-                raise ValueError(f"{where}: surface must be a level or [[x, y], ...] with at "
-                                 f"least two points, got {s!r}")
-            if np.any(np.diff(p[:, 0]) <= 0):
-                raise ValueError(f"{where}: the surface polyline folds back on itself (x must "
-                                 f"increase along it): {s!r}")
-        elif s is not None and not math.isfinite(s):
-            raise ValueError(f"{where}: surface level {s!r} must be finite")
+        if self.surface is not None:
+            check_surface(self.surface, where)
 
     def depth(self, x, y, top=None) -> np.ndarray:
         """Depth (m) below the surface of points (x, y); ``top``: the model's top polyline,
@@ -129,12 +122,7 @@ class InSitu:
                 raise ValueError("insitu: surface None (the top of the model) needs the model's "
                                  "top polyline")
             s = top
-        if isinstance(s, (int, float)):
-            ys = np.full_like(x, float(s))
-        else:
-            p = np.asarray(s, dtype=np.float64)
-            ys = np.interp(x, p[:, 0], p[:, 1])
-        return np.maximum(ys - y, 0.0)
+        return np.maximum(surface_height(s, x) - y, 0.0)
 
     def stress(self, x, y, top=None) -> tuple:
         """(sxx, syy, sxy) arrays (Pa, compression +) at points (x, y)."""
