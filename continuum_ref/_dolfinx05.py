@@ -16,7 +16,8 @@ from petsc4py import PETSc
 __all__ = ["model_to_mesh", "quadrature_space", "quadrature_points", "quadrature_measure",
            "compile_expression", "eval_expression", "block_index", "local_cells",
            "cells_containing", "create_matrix", "create_vector", "assemble_matrix",
-           "assemble_residual", "assemble_vector_plain", "lu_solver", "facet_tags", "scalar"]
+           "assemble_residual", "assemble_vector_plain", "keep_cell_dofs", "lu_solver",
+           "facet_tags", "scalar"]
 
 
 def model_to_mesh(model, gdim=2):
@@ -125,25 +126,45 @@ def assemble_matrix(A, form, bcs):
     return A
 
 
-def assemble_residual(b, form, jacobian_form, bcs, x0, scale=-1.0):
-    """Residual vector with the Newton lifting: Dirichlet entries become scale*(x0 - g)."""
+def assemble_residual(b, form, jacobian_form, bcs, x0, scale=-1.0, extra=None):
+    """Residual vector with the Newton lifting: Dirichlet entries become scale*(x0 - g).
+    ``extra`` = (alpha, vector): alpha * vector (an assembled nodal force) is added to the
+    free entries."""
     with b.localForm() as loc:
         loc.set(0.0)
     fem_petsc.assemble_vector(b, form)
     if bcs:
         fem_petsc.apply_lifting(b, [jacobian_form], bcs=[bcs], x0=[x0], scale=scale)
     b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+    if extra is not None:
+        b.axpy(*extra)
     if bcs:
         fem_petsc.set_bc(b, bcs, x0, scale)
     return b
 
 
-def assemble_vector_plain(b, form):
-    """Assemble a vector without boundary conditions (for reactions)."""
+def assemble_vector_plain(b, form, extra=None):
+    """Assemble a vector without boundary conditions (for reactions); ``extra`` as in
+    `assemble_residual`."""
     with b.localForm() as loc:
         loc.set(0.0)
     fem_petsc.assemble_vector(b, form)
     b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+    if extra is not None:
+        b.axpy(*extra)
+    return b
+
+
+def keep_cell_dofs(b, space, cells):
+    """Zero the entries of vector ``b`` (of ``space``, owned and ghost) at every dof that no
+    cell of ``cells`` touches."""
+    dofmap = space.dofmap
+    bs = dofmap.index_map_bs
+    blocks = np.asarray(dofmap.list.array).reshape(-1, dofmap.cell_dofs(0).size)[cells]
+    keep = np.zeros(dofmap.index_map.size_local + dofmap.index_map.num_ghosts, dtype=bool)
+    keep[blocks.ravel()] = True
+    with b.localForm() as loc:
+        loc.array[~np.repeat(keep, bs)] = 0.0
     return b
 
 

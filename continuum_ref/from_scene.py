@@ -82,8 +82,14 @@ def apply_insitu(model, scene, stage) -> None:
     model.set_stress_field(stage, top=scene_top(scene))
 
 
-def apply_water(model, water_table) -> None:
+def apply_water(model, water_table, solve=False):
     """Give ``model`` the pore pressure of a ``dem_core.water.WaterTable`` (effective-stress
-    analysis: ``ContinuumModel.set_pore_pressure``); set it before solving gravity."""
+    analysis). ``solve=False``: set it (``ContinuumModel.set_pore_pressure``), before solving
+    gravity; returns None. ``solve=True``: bring it in on a model at equilibrium with load
+    stepping (``ContinuumModel.solve_pore_pressure``, the water stage of a staged
+    sequence); returns the StageResult."""
     water_table.check()
+    if solve:
+        return model.solve_pore_pressure(water_table.pressure)
     model.set_pore_pressure(water_table.pressure)
+    return None

@@ -10,8 +10,12 @@ prescribed displacement scale, excavation release) uses the same stepping with s
 (`newton.load_path`). The model keeps the last converged state (displacement, stress, strain,
 yield history); a failed step restores it.
 
-Excavation: the removed cells become a soft elastic "void" (E x 1e-6, no weight) and their
-stresses are released gradually (release factor 0 -> 1), a standard fixed-mesh technique.
+Excavation (`excavate`): the removed cells become a soft elastic "void" (E x 1e-6, no weight,
+no stress, no pore pressure) and the forces they exerted on the remaining body (their total
+stress and weight, as nodal forces at the nodes they share with it) are applied to it and
+released, (1 - t) f_exc with the release factor t = 0 -> 1: the excavation-load method on a
+fixed mesh (Ghaboussi & Pecknold 1984, "Incremental finite element analysis of geometrically
+altered structures"; Brown & Booker 1985, "Finite element analysis of excavation").
 
 Pore pressure (`set_pore_pressure`): effective stress (Terzaghi). The plasticity and the
 stored state (`sig_n`) are effective stresses sigma'; equilibrium uses the total stress
@@ -126,8 +130,9 @@ class ContinuumModel:
         self._dirichlet = []                       # (dofs, sub, Constant, base value)
         self._tractions = []                       # (tag, predicate, Constant, base vector)
         self._load_scale = 0.0                     # scales prescribed values and tractions
-        self._released = None                      # (points, stress) being released
-        self._release = 0.0
+        self._release_force = None                 # f_exc of `excavate` (PETSc Vec, N)
+        self._release = 0.0                        # release factor t of `excavate`
+        self._exc_form = None                      # (form, stress, density) giving f_exc
         self._pore = None                          # pore pressure at 1 g (npts,), Pa
         self._pore_fn = None                       # -g p m at quadrature points (forms)
         self.history = {name: [] for name in mesh_data.points}
@@ -228,13 +233,7 @@ class ContinuumModel:
 
     def _trial_stress(self):
         eps = dx.eval_expression(self._eps_expr, self._cells)
-        deps = eps - self.eps_n
-        sig_n = self.sig_n
-        if self._released is not None:
-            pts, stress = self._released
-            sig_n = sig_n.copy()
-            sig_n[pts] = (1.0 - self._release) * stress
-        return eps, sig_n, deps
+        return eps, self.sig_n, eps - self.eps_n
 
     def _update_stress(self):
         """Return map at every quadrature point from the current displacement."""
@@ -255,8 +254,10 @@ class ContinuumModel:
     def _residual(self):
         self._update_stress()
         bcs = self._bcs()
-        b = dx.assemble_residual(self._b, self._F, self._J, bcs, self.u.vector)
-        plain = dx.assemble_vector_plain(self._b_plain, self._F)
+        extra = None if self._release_force is None else (1.0 - self._release,
+                                                           self._release_force)
+        b = dx.assemble_residual(self._b, self._F, self._J, bcs, self.u.vector, extra=extra)
+        plain = dx.assemble_vector_plain(self._b_plain, self._F, extra=extra)
         dofs = self._constrained_dofs()
         reaction = np.linalg.norm(plain.array[dofs]) if len(dofs) else 0.0
         # Dirichlet entries of b hold u - g: non-zero until the first correction imposes g.
@@ -347,18 +348,45 @@ class ContinuumModel:
         ----------
         pressure : callable p(x, y) -> Pa, or None
             Pore pressure at 1 g, compression positive (e.g. ``dem_core.water.WaterTable(...)
-            .pressure``), evaluated once at every quadrature point; None removes it. It is
-            applied at the current g-level without a solve: set it before `solve_gravity`, or
-            re-equilibrate afterwards. SSR then reduces the effective strength c', tan(phi').
+            .pressure``), evaluated once at every quadrature point (zero in excavated cells: a
+            void holds no water); None removes it. It is applied at the current g-level
+            without a solve: set it before `solve_gravity`, or bring it in on a model at
+            equilibrium with `solve_pore_pressure`. SSR then reduces the effective strength
+            c', tan(phi').
         """
         if pressure is None:
             self._pore, self._pore_fn, self._forms = None, None, None
             return
+        self._pore, self._forms = self._pore_values(pressure), None
+
+    def _pore_values(self, pressure):
         x, y = self._qp_xy[:, 0], self._qp_xy[:, 1]
         p = np.broadcast_to(np.asarray(pressure(x, y), dtype=float), x.shape).copy()
         if not np.all(np.isfinite(p)):
             raise ValueError(f"pore pressure is not finite at {np.sum(~np.isfinite(p))} points")
-        self._pore, self._forms = p, None
+        void = self._void_index()
+        if void is not None:
+            p[self._point_material == void] = 0.0
+        return p
+
+    def solve_pore_pressure(self, pressure, first_step=1.0, min_step=1e-3):
+        """Change the pore pressure of a model at equilibrium to `pressure` (as in
+        `set_pore_pressure`; None: dry) with load stepping: p = p_old + t (p_new - p_old),
+        t = 0 -> 1, step cutting on non-convergence. The effective stresses carry the change
+        (a rising water table lowers them and may make the ground yield, so one Newton solve
+        is often not enough). Returns a StageResult."""
+        old = self._pore.copy() if self._pore is not None else np.zeros(len(self._qp_xy))
+        new = np.zeros_like(old) if pressure is None else self._pore_values(pressure)
+        if self._pore is None:
+            self._pore, self._forms = old.copy(), None
+
+        def apply(t):
+            self._pore = old + t * (new - old)
+            self._update_pore_values()
+        result = self._run("water", apply, 0.0, 1.0, first_step, min_step)
+        if pressure is None:
+            self.set_pore_pressure(None)
+        return result
 
     def pore_pressure(self):
         """Pore pressure (npts,) in Pa at the quadrature points at the current g-level."""
@@ -442,30 +470,77 @@ class ContinuumModel:
     def excavate(self, name, first_step=1.0, min_step=1e-3):
         """Remove the cells of `name` (a region or group) and re-equilibrate.
 
-        The cells become a weightless soft solid (E x 1e-6) and their stress is released from
-        1 to 0 by load stepping. Returns a StageResult whose `displacement` is the
-        excavation-induced displacement at the monitoring points.
+        The cells become a weightless, stress-free soft solid (E x 1e-6, no pore pressure)
+        and the remaining body carries (1 - t) f_exc, the nodal forces that the removed cells'
+        total stress and weight exerted on the nodes they share with it,
+
+            f_exc = int_removed (sigma_0 - p m) : eps(v) - rho g . v,
+
+        while the release factor t goes 0 -> 1 by load stepping (at t = 0 the body is in the
+        equilibrium it had before). Nodes of removed cells only (not shared with the remaining
+        body) get no force: a cell removed earlier next to this one carries nothing, so the
+        stress of this one must not push on it. Returns a StageResult whose `displacement` is
+        the excavation-induced displacement at the monitoring points.
         """
         cells = self.mesh_data.cells(name)
         pts = (cells[:, None] * self._nq + np.arange(self._nq)).ravel()
-        ref = max(m.E for m in self.materials)
-        if not any(isinstance(m, Elastic) and m.E == ref * VOID_STIFFNESS for m in self.materials):
-            self.materials.append(Elastic(ref * VOID_STIFFNESS, 0.3))
-        void = [k for k, m in enumerate(self.materials)
-                if isinstance(m, Elastic) and m.E == ref * VOID_STIFFNESS][0]
+        void = self._void_material()
+        force = self._excavation_force(cells, pts)
         self._cell_material[cells] = void
         self._point_material[pts] = void
         self.rho.x.array[cells] = 0.0
-        self._released = (pts, self.sig_n[pts].copy())
         self.sig_n[pts] = 0.0
+        if self._pore is not None:
+            self._pore[pts] = 0.0
+            self._update_pore_values()
+        remaining = np.nonzero(self._cell_material != void)[0].astype(np.int32)
+        self._release_force = dx.keep_cell_dofs(force, self.V, remaining)
 
         def apply(t):
             self._release = t
         try:
             result = self._run(f"excavate {name}", apply, 0.0, 1.0, first_step, min_step)
         finally:
-            self._released, self._release = None, 0.0
+            self._release_force, self._release = None, 0.0
         return result
+
+    def _void_index(self):
+        """Index of the soft elastic material of excavated cells, None before `excavate`."""
+        ref = max(m.E for m in self.materials)
+        for k, m in enumerate(self.materials):
+            if isinstance(m, Elastic) and m.E == ref * VOID_STIFFNESS:
+                return k
+        return None
+
+    def _void_material(self):
+        """Index of the void material (added on first use)."""
+        k = self._void_index()
+        if k is None:
+            self.materials.append(Elastic(max(m.E for m in self.materials) * VOID_STIFFNESS,
+                                          0.3))
+            k = len(self.materials) - 1
+        return k
+
+    def _excavation_force(self, cells, pts):
+        """f_exc of `excavate` (a new PETSc vector, every dof): the internal force of the total
+        stress minus the weight of `cells` (quadrature points `pts`) at the current state."""
+        if self._forms is None:
+            self._build_forms()
+        if self._exc_form is None:
+            v = ufl.TestFunction(self.V)
+            sig, rho = fem.Function(self._W4), fem.Function(self.rho.function_space)
+            dxq = dx.quadrature_measure(self.mesh, self._qdeg)
+            form = fem.form(ufl.inner(sig, _eps_mandel(v)) * dxq
+                            - ufl.inner(rho * self._g_vec, v) * ufl.dx)
+            self._exc_form = (form, sig, rho)
+        form, sig, rho = self._exc_form
+        total = np.zeros_like(self.sig_n)
+        total[pts] = self.sig_n[pts]
+        total[pts, :3] -= self.pore_pressure()[pts, None]
+        sig.x.array.reshape(-1, 4)[self._b4] = total
+        rho.x.array[:] = 0.0
+        rho.x.array[cells] = self.rho.x.array[cells]
+        return dx.assemble_vector_plain(dx.create_vector(form), form)
 
     def set_materials(self, materials):
         """Replace the materials, in the order given at construction (e.g. reduced strengths).

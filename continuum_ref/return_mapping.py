@@ -137,7 +137,11 @@ def mohr_coulomb_principal(s, mat):
             cand = s[idx] - mult @ DG.T
             viol = np.max(cand @ A.T - b - tol[idx, None], axis=1)
             ordered = np.all(np.diff(cand, axis=1) <= 1e-9 * scale[idx, None], axis=1)
-            ok = (viol <= 0.0) & ordered & np.all(mult >= -1e-12 * scale[idx, None], axis=1)
+            # multipliers >= 0, tested on the stress each plane's flow removes (Pa): the
+            # multipliers are strains (~ stress / E), so a tolerance in Pa on them let
+            # negative ones through for stiff rock (a non-closest edge, a jump in the return)
+            corr = mult * np.linalg.norm(DG, axis=0)
+            ok = (viol <= 0.0) & ordered & np.all(corr >= -1e-9 * scale[idx, None], axis=1)
             better = viol < best_violation[idx]
             best_violation[idx[better]], best[idx[better]] = viol[better], cand[better]
             hit = idx[ok]
