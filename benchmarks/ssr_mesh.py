@@ -15,39 +15,17 @@ import argparse
 import json
 import math
 import platform
+import sys
 import time
 from pathlib import Path
-
-import numpy as np
 
 from continuum_ref import limit_equilibrium as le
 from continuum_ref import ssr
 from continuum_ref.materials import MohrCoulomb
-from continuum_ref.mesh import PolygonRegion, build_mesh, refine_near
-from continuum_ref.model import ContinuumModel
 from dem_core.water import WaterTable
 
-H, D, BETA, X_CREST, LENGTH = 10.0, 3.0, 45.0, 10.0, 35.0
-X_TOE = X_CREST + H / math.tan(math.radians(BETA))
-GROUND = [(0.0, D + H), (X_CREST, D + H), (X_TOE, D), (LENGTH, D)]
-WATER = [(0.0, D + H / 2), (X_CREST + H / 2, D + H / 2), (X_TOE, D), (LENGTH, D)]
-C, PHI, GAMMA = 20e3, 30.0, 20e3
-
-
-def slope_model(h, material, water=None):
-    poly = [(0, 0), (LENGTH, 0)] + GROUND[::-1]
-    near = np.concatenate([np.linspace((X_CREST - 6, D + H), (X_CREST, D + H), 13),
-                           np.linspace((X_CREST, D + H), (X_TOE, D), 29),
-                           np.linspace((X_TOE, D), (X_TOE + 4, D), 9)])
-    md = build_mesh([PolygonRegion("soil", poly)], 3 * h,
-                    size_field=refine_near(near, h, 3 * h, 6.0, 10.0))
-    model = ContinuumModel(md, material, GAMMA / 9.81)
-    model.fix(lambda x: np.isclose(x[1], 0.0), (0, 1))
-    model.fix(lambda x: np.isclose(x[0], 0.0) | np.isclose(x[0], LENGTH), (0,))
-    if water is not None:
-        model.set_pore_pressure(water.pressure)
-    model.solve_gravity(1.0)
-    return model
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))
+from c_phi_slope import C, GAMMA, GROUND, PHI, WATER, slope_model  # noqa: E402  (the section)
 
 
 def run(h, material, bishop, water=None, first_step=0.25):

@@ -10,6 +10,8 @@ stability numbers for phi = 0, the infinite-slope limit for c = 0 and the Bishop
 (1960) chart value quoted by Griffiths & Lane (1999) for their example 1.
 """
 import math
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -17,31 +19,10 @@ import pytest
 from continuum_ref import limit_equilibrium as le
 from continuum_ref.materials import MohrCoulomb
 
-H, D, BETA, X_CREST, LENGTH = 10.0, 3.0, 45.0, 10.0, 35.0
-X_TOE = X_CREST + H / math.tan(math.radians(BETA))
-GROUND = [(0.0, D + H), (X_CREST, D + H), (X_TOE, D), (LENGTH, D)]
-C, PHI, GAMMA = 20e3, 30.0, 20e3
-WATER = [(0.0, D + H / 2), (X_CREST + H / 2, D + H / 2), (X_TOE, D), (LENGTH, D)]
-
-
-def _slope_model(h, material, water=None):
-    """The slope above meshed at h near the face (3 h elsewhere), at equilibrium at 1 g."""
-    from continuum_ref.mesh import PolygonRegion, build_mesh, refine_near
-    from continuum_ref.model import ContinuumModel
-
-    poly = [(0, 0), (LENGTH, 0)] + GROUND[::-1]
-    near = np.concatenate([np.linspace((X_CREST - 6, D + H), (X_CREST, D + H), 13),
-                           np.linspace((X_CREST, D + H), (X_TOE, D), 29),
-                           np.linspace((X_TOE, D), (X_TOE + 4, D), 9)])
-    md = build_mesh([PolygonRegion("soil", poly)], 3 * h,
-                    size_field=refine_near(near, h, 3 * h, 6.0, 10.0))
-    model = ContinuumModel(md, material, GAMMA / 9.81)
-    model.fix(lambda x: np.isclose(x[1], 0.0), (0, 1))
-    model.fix(lambda x: np.isclose(x[0], 0.0) | np.isclose(x[0], LENGTH), (0,))
-    if water is not None:
-        model.set_pore_pressure(water.pressure)
-    assert model.solve_gravity(1.0).converged
-    return model
+# the section is the example's (examples/c_phi_slope.py), so the benchmark uses the same
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))
+from c_phi_slope import C, GAMMA, GROUND, H, PHI, WATER  # noqa: E402
+from c_phi_slope import slope_model as _slope_model  # noqa: E402
 
 
 @pytest.fixture(scope="module")
