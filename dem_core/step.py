@@ -35,7 +35,6 @@ a tenth of its radius, or turning 0.1 rad, in one step; ``bad`` names the block)
 """
 from __future__ import annotations
 
-
 import numpy as np
 from numba import njit
 
