@@ -14,6 +14,8 @@ import numpy as np
 from .blocks import BlockSystem
 from .contacts import Contacts
 from .monitor import History
+from .components.cables import Cables
+from .components.liner import Liners
 from .state import BlockProps, BlockState, CrackLog
 
 __all__ = ["save_parts", "load_parts"]
@@ -21,7 +23,8 @@ __all__ = ["save_parts", "load_parts"]
 _BS_ARRAYS = ("vertices", "vertex_offsets", "centroid", "area", "region_id", "edge_p0",
               "edge_p1", "edge_block_a", "edge_block_b", "edge_normal", "edge_length",
               "edge_material")
-_BUNDLES = {"props": BlockProps, "state": BlockState, "cracks": CrackLog}
+_BUNDLES = {"props": BlockProps, "state": BlockState, "cracks": CrackLog, "cables": Cables,
+            "liners": Liners}
 
 
 def save_parts(path, blocks, bundles: dict, contacts: Contacts, arrays: dict, meta: dict,
@@ -62,7 +65,7 @@ def load_parts(path) -> dict:
                          groups={g: d[f"group.{g}"] for g in meta["groups"]},
                          material_names=meta["material_names"])
     bundles = {name: cls(**{f: d[f"{name}.{f}"] for f in cls._fields})
-               for name, cls in _BUNDLES.items()}
+               for name, cls in _BUNDLES.items() if f"{name}.{cls._fields[0]}" in d}
     points = {}
     for name in meta["points"]:
         p = d[f"point.{name}"]

@@ -20,6 +20,7 @@ import numpy as np
 
 from . import detection, io, monitor, step as stepper
 from .blocks import BlockSystem
+from . import support
 from .components import exposed_faces, gravity_bundle, loads_bundle, servo_bundle, water_bundle
 from .contacts import initial_contacts, surface_materials
 from .elastic import series_stiffness
@@ -135,6 +136,8 @@ class Model:
         self.servo_groups = []                 # (blocks, params row) (components.Servo)
         self.water = None                      # water.WaterTable (components.Water)
         self.water_faces = None                # exposed faces while there is water
+        self.cables = support.no_cables()      # components.Cables (support.Cable)
+        self.liners = support.no_liners()      # components.Liners (support.Liner)
         self.time = 0.0
         self.step = 0
         self.history = monitor.History(every=int(history_every))
@@ -207,6 +210,8 @@ class Model:
             mid = self.table.names.index(self.new_contact_material)
             kk = (self.table.kn[mid] + self.table.ks[mid]) * p.radius
             w2 = np.maximum(w2, 2.0 * (kk / p.mass + kk * p.radius ** 2 / p.inertia))
+        kt, kr = support.support_stiffness(self)
+        w2 = w2 + 2.0 * (kt / p.mass + kr / p.inertia)
         moving = (p.active > 0) & (p.fixity != (FIX_X | FIX_Y | FIX_ROT)) & (w2 > 0)
         scale = np.ones(self.n_blocks)
         if self.mass_scaling and moving.any():
@@ -216,6 +221,10 @@ class Model:
         p.inv_mass[:] = 1.0 / (p.mass * scale)
         p.inv_inertia[:] = 1.0 / (p.inertia * scale)
         w2max = float(w2[moving].max()) if moving.any() else 0.0
+        if w2max == 0 and support.has_nodes(self) and np.any(w2[p.active > 0] > 0):
+            w2max = float(w2[p.active > 0].max())     # only the support moves
+        if w2max > 0:
+            support.set_node_masses(self, w2max)
         self.critical_dt = 2.0 / math.sqrt(w2max) if w2max > 0 else math.inf
         if self.fixed_dt is not None:
             self.dt = float(self.fixed_dt)
@@ -341,6 +350,11 @@ class Model:
             self.water_faces = exposed_faces(self.blocks, p.active)
         self._update_timestep()
 
+    def install(self, item):
+        """Install support: a ``support.Cable`` (or bolt) or ``support.Liner``, stress-free in
+        the present pose (``dem_core.support``)."""
+        support.install(self, item)
+
     def set_water(self, table):
         """Put a water table (``water.WaterTable``) on the model, or take it off (None):
         pressure on the contacts and exposed faces below it (``components.water``)."""
@@ -355,7 +369,7 @@ class Model:
     # What changes while a model runs (everything else is fixed at construction).
     _STATE = ("props", "state", "contacts", "cracks", "materials", "table", "gravity", "load",
               "servo_groups", "time", "step", "dt", "critical_dt", "kinetic", "history",
-              "points", "search_enabled", "water", "water_faces")
+              "points", "search_enabled", "water", "water_faces", "cables", "liners")
     _SETTINGS = ("unbreakable", "damping", "safety", "mass_scaling", "fixed_dt",
                  "search_margin", "new_contact_material", "threads", "kinetic_damping")
 
@@ -370,7 +384,8 @@ class Model:
 
     def save(self, path):
         """Write the whole model to ``path`` (.npz); ``Model.load`` resumes it bit-for-bit."""
-        bundles = {"props": self.props, "state": self.state, "cracks": self.cracks}
+        bundles = {"props": self.props, "state": self.state, "cracks": self.cracks,
+                   "cables": self.cables, "liners": self.liners}
         arrays = {"block_E": self.block_E, "block_nu": self.block_nu, "gravity": self.gravity,
                   "load": self.load, "kinetic": self.kinetic}
         meta = {"settings": {k: getattr(self, k) for k in self._SETTINGS},
@@ -394,6 +409,8 @@ class Model:
         m.materials = {k: Material(**v) for k, v in meta["materials"].items()}
         m.table = material_table(meta["table_names"], m.materials, m.unbreakable)
         m.props, m.state, m.cracks = (parts["bundles"][k] for k in ("props", "state", "cracks"))
+        m.cables = parts["bundles"].get("cables", support.no_cables())
+        m.liners = parts["bundles"].get("liners", support.no_liners())
         m.contacts = parts["contacts"]
         a = parts["arrays"]
         m.block_E, m.block_nu, m.gravity, m.load, m.kinetic = (
@@ -428,7 +445,7 @@ class Model:
         p, c = self.props, self.contacts
         return monitor.unbalanced_ratio(self.state.force, p.mass, self.gravity, self.load,
                                         p.fixity, p.active, c.n, c.block_a, c.block_b,
-                                        c.length, c.sn, c.ts)
+                                        c.length, c.sn, c.ts, *support.unbalanced(self))
 
     def kinetic_energy(self) -> float:
         p = self.props
@@ -476,7 +493,8 @@ class Model:
         """The force component bundles of the step, empty where the scene has none."""
         return (gravity_bundle(self.gravity), loads_bundle(self.load),
                 water_bundle(self.water, self.contacts, self.state, self.table.names,
-                             self.water_faces), servo_bundle(self.servo_groups))
+                             self.water_faces), self.cables, self.liners,
+                servo_bundle(self.servo_groups))
 
     def _parallel(self):
         """Scratch and the block -> contact table for the threaded kernel (empty: serial)."""
@@ -491,6 +509,7 @@ class Model:
         return Integrator(float(self.dt), self.damping, half, self.kinetic_damping, self.kinetic)
 
     def _run(self, n):
+        support.set_controls(self)
         steps, self.time, status, bad = stepper.run_steps(
             n, self.time, self._integrator(), self.state, self.props, self.contacts,
             self.table.strength_array(), self.cracks, self._parallel(), *self._components())

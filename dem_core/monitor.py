@@ -28,7 +28,10 @@ __all__ = ["unbalanced_ratio", "kinetic_energy", "strain_energy", "History", "ve
 
 @njit(cache=True)
 def unbalanced_ratio(force, mass, gravity, load, fixity, active, nc, block_a, block_b,
-                     length, sn, ts):
+                     length, sn, ts, extra_num=0.0, extra_den=0.0):
+    """sum |unbalanced force| / sum (contact forces + weight + load) over the free blocks;
+    ``extra_num``, ``extra_den``: the same sums of other moving parts (support nodes:
+    ``support.unbalanced``)."""
     nb = mass.shape[0]
     scale = np.zeros(nb)
     for k in range(nc):
@@ -36,8 +39,8 @@ def unbalanced_ratio(force, mass, gravity, load, fixity, active, nc, block_a, bl
         scale[block_a[k]] += fc
         scale[block_b[k]] += fc
     g = math.hypot(gravity[0], gravity[1])
-    num = 0.0
-    den = 0.0
+    num = extra_num
+    den = extra_den
     for i in range(nb):
         if not active[i] or (fixity[i] & 3) == 3:
             continue

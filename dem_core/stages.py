@@ -22,6 +22,8 @@ point and the crack counts (``StageRecord``). The centrifuge g-ramp is one stage
 | "displace" | ``loading.Displace(group, vx, vy, displacement, ...)`` | moves a group until it has moved a distance, then releases it |
 | "factor_of_safety" | ``strength.FactorOfSafety(materials, f_levels, refine_to, tension, ...)`` | strength-reduction factor of safety |
 | "strength_schedule" | ``strength.StrengthSchedule(material, property, values, refine_to, ...)`` | lowers a strength until failure |
+| "cable" | ``support.Cable(collar, end, area, E, yield_tension, grout_stiffness, ...)`` | installs a grouted cable or bolt |
+| "liner" | ``support.Liner(group, thickness, E, tensile_yield, ...)`` | installs a shotcrete liner on a group's exposed faces |
 """
 from __future__ import annotations
 
@@ -34,11 +36,12 @@ from .insitu import InSitu
 from .loading import Displace, Load, ServoLoad
 from .materials import Material
 from .strength import FactorOfSafety, StrengthSchedule
+from .support import Cable, Liner
 from .water import WaterTable
 
 __all__ = ["Gravity", "Solve", "Cycle", "RaiseGravity", "Excavate", "ChangeMaterial",
            "PrescribeVelocity", "Release", "ServoLoad", "Load", "InSitu", "Displace",
-           "FactorOfSafety", "StrengthSchedule", "WaterTable", "StageRecord", "run_stages",
+           "FactorOfSafety", "StrengthSchedule", "WaterTable", "Cable", "Liner", "StageRecord", "run_stages",
            "check_stages", "stage_from_dict", "stage_to_dict", "stage_table", "STAGE_KINDS"]
 
 
@@ -203,7 +206,8 @@ STAGE_KINDS = {"gravity": Gravity, "solve": Solve, "cycle": Cycle,
                "change_material": ChangeMaterial, "prescribe_velocity": PrescribeVelocity,
                "release": Release, "servo": ServoLoad, "load": Load,
                "insitu": InSitu, "displace": Displace, "factor_of_safety": FactorOfSafety,
-               "strength_schedule": StrengthSchedule, "water": WaterTable}
+               "strength_schedule": StrengthSchedule, "water": WaterTable,
+               "cable": Cable, "liner": Liner}
 _KIND_OF = {cls: kind for kind, cls in STAGE_KINDS.items()}
 
 
@@ -224,11 +228,12 @@ def stage_from_dict(d: dict, i: int = 0):
         raise ValueError(f"stage {i} ({kind}): unknown key(s) {sorted(set(d) - allowed)}; "
                          f"allowed {sorted(allowed)}")
     for key in ("direction", "g_levels", "watch", "read_on", "gauge", "gauge_direction",
-                "materials", "f_levels", "values"):
+                "materials", "f_levels", "values", "collar", "end"):
         if key in d:
             d[key] = tuple(d[key])
-    if isinstance(d.get("surface"), list):
-        d["surface"] = tuple(tuple(p) for p in d["surface"])
+    for key in ("surface", "within"):
+        if isinstance(d.get(key), list):
+            d[key] = tuple(tuple(p) for p in d[key])
     try:
         return cls(**d)
     except TypeError as e:

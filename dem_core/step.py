@@ -7,6 +7,9 @@ One step (``run_steps`` loops it inside numba, no Python in between)::
     f += gravity                             components/gravity.py   (empty bundle: nothing)
     f += applied loads                       components/loads.py
     f += water pressure                      components/water.py
+    f += cables and bolts (grout); their     components/cables.py
+         nodes move one step
+    f += liners (bond); their nodes move     components/liner.py
     servo velocities from f                  components/servo.py: last, so it reacts to every
                                              force of the step
     for each free velocity component:  F_d = f - alpha |f| sign(v)        (local damping)
@@ -38,7 +41,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .components import add_gravity, add_loads, add_water, servo_velocities
+from .components import add_cables, add_gravity, add_liners, add_loads, add_water, servo_velocities
+from .components.nodes import damped
 from .forces import add_contact_forces
 from .kinematics import body_point, set_rotation
 from .parallel import add_contact_forces_parallel
@@ -51,7 +55,7 @@ DONE, NEED_SEARCH, UNSTABLE = 0, 1, 2
 
 @njit(cache=True)
 def run_steps(nsteps, time, integ, s, p, c, strength, cracks, par, gravity, loads, water,
-              servo):
+              cables, liners, servo):
     """Advance up to ``nsteps`` steps; returns (steps done, time, status, block).
 
     ``integ`` Integrator, ``s`` BlockState, ``p`` BlockProps, ``c`` Contacts, ``strength`` the
@@ -68,6 +72,8 @@ def run_steps(nsteps, time, integ, s, p, c, strength, cracks, par, gravity, load
         add_gravity(gravity, s, p)
         add_loads(loads, s, p)
         add_water(water, s, p)
+        add_cables(cables, s, p)
+        add_liners(liners, s, p)
         servo_velocities(servo, s, p)
         kick = 0.5 * integ.dt if integ.kinetic[2] != 0.0 else integ.dt
         integ.kinetic[2] = 0.0
@@ -79,13 +85,6 @@ def run_steps(nsteps, time, integ, s, p, c, strength, cracks, par, gravity, load
         if status == NEED_SEARCH:
             return step + 1, time, NEED_SEARCH, bad
     return nsteps, time, DONE, -1
-
-
-@njit(cache=True, inline="always")
-def _damped(f, v, alpha):
-    if alpha > 0.0 and v != 0.0:
-        return f - alpha * abs(f) * (1.0 if v > 0.0 else -1.0)
-    return f
 
 
 @njit(cache=True)
@@ -108,15 +107,15 @@ def advance(s, p, integ, kick):
         if fx & 1:
             vel[i, 0] = p.velocity_bc[i, 0]
         else:
-            vel[i, 0] += _damped(s.force[i, 0], vel[i, 0], alpha) * p.inv_mass[i] * kick
+            vel[i, 0] += damped(s.force[i, 0], vel[i, 0], alpha) * p.inv_mass[i] * kick
         if fx & 2:
             vel[i, 1] = p.velocity_bc[i, 1]
         else:
-            vel[i, 1] += _damped(s.force[i, 1], vel[i, 1], alpha) * p.inv_mass[i] * kick
+            vel[i, 1] += damped(s.force[i, 1], vel[i, 1], alpha) * p.inv_mass[i] * kick
         if fx & 4:
             omega[i] = p.velocity_bc[i, 2]
         else:
-            omega[i] += _damped(s.force[i, 2], omega[i], alpha) * p.inv_inertia[i] * kick
+            omega[i] += damped(s.force[i, 2], omega[i], alpha) * p.inv_inertia[i] * kick
         v_max = 0.1 * p.radius[i] / dt
         if not (vel[i, 0] * vel[i, 0] + vel[i, 1] * vel[i, 1] <= v_max * v_max
                 and abs(omega[i]) * dt <= 0.1):             # also catches NaN

@@ -4,16 +4,21 @@ that adds into ``state.force`` (or, for the servo, sets prescribed velocities fr
 
 A component a scene does not use is its empty bundle (zero rows): its kernel loops over
 nothing, so an unused component costs nothing measurable (``benchmarks/leave_out.py``).
-Components that add stiffness (cables, liners: later) also give a bound of their frequency for
-the automatic time step.
+Components that add stiffness (cables, liners) add their springs to the blocks' frequency
+bound for the automatic time step (``support.support_stiffness``); their own nodes move in
+their kernel, with inertial masses that keep them inside that step (``support.set_node_masses``).
 
 | component | bundle | kernel |
 |---|---|---|
 | gravity (and the centrifuge g-level) | ``Gravity`` | ``add_gravity`` |
 | applied constant loads | ``Loads`` | ``add_loads`` |
 | water table: pressure on contacts and exposed faces | ``Water`` | ``add_water`` |
+| grouted cables and rock bolts | ``Cables`` | ``add_cables`` |
+| shotcrete liners | ``Liners`` | ``add_liners`` |
 | servo-controlled groups (constant force) | ``Servo`` | ``servo_velocities`` |
 """
+from .cables import Cables, add_cables, no_cables
+from .liner import Liners, add_liners, no_liners
 from .gravity import Gravity, add_gravity, gravity_bundle
 from .loads import Loads, add_loads, loads_bundle
 from .servo import Servo, servo_bundle, servo_velocities
@@ -21,4 +26,5 @@ from .water import Water, add_water, exposed_faces, no_water, water_bundle
 
 __all__ = ["Gravity", "add_gravity", "gravity_bundle", "Loads", "add_loads", "loads_bundle",
            "Servo", "servo_bundle", "servo_velocities", "Water", "add_water", "water_bundle",
-           "no_water", "exposed_faces"]
+           "no_water", "exposed_faces", "Cables", "add_cables", "no_cables", "Liners",
+           "add_liners", "no_liners"]

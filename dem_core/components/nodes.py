@@ -1,0 +1,25 @@
+"""Moving the nodes of the support elements: local damping and the leapfrog update, shared by
+the blocks (``step.advance``) and the cable and liner nodes (``components/cables.py``,
+``components/liner.py``)."""
+from __future__ import annotations
+
+from numba import njit
+
+__all__ = ["damped", "move_nodes"]
+
+
+@njit(cache=True, inline="always")
+def damped(f, v, alpha):
+    """Local non-viscous damping: f - alpha |f| sign(v) (Cundall's; alpha in [0, 1))."""
+    if alpha > 0.0 and v != 0.0:
+        return f - alpha * abs(f) * (1.0 if v > 0.0 else -1.0)
+    return f
+
+
+@njit(cache=True)
+def move_nodes(pos, vel, force, inv_mass, dt, alpha):
+    """v += damped(f) / m dt; x += v dt for every node and component of ``pos`` (n, k)."""
+    for i in range(pos.shape[0]):
+        for d in range(pos.shape[1]):
+            vel[i, d] += damped(force[i, d], vel[i, d], alpha) * inv_mass[i] * dt
+            pos[i, d] += vel[i, d] * dt

@@ -1,0 +1,445 @@
+"""Support: grouted cables and rock bolts, and shotcrete liners, as records a scene installs.
+
+    model.install(Cable(collar=(2.0, 5.0), end=(8.0, 3.0), area=625e-6, E=98e9,
+                        yield_tension=0.548e6, grout_stiffness=6e9, grout_strength=0.32e6,
+                        spacing=8.0))
+    model.install(Liner("face", thickness=0.15, E=25e9, tensile_yield=3e6,
+                        compressive_yield=35e6, bond_kn=5e9, bond_ks=2e9,
+                        bond_tension=0.5e6, bond_shear=1e6))
+
+Both are also stage records (kinds "cable" and "liner"): installed at that point of a staged
+run, stress-free in the pose the model has then. A rock bolt is a short ``Cable``; ``plate``
+holds its collar to the rock (a face plate) and ``free_length`` leaves the part next to the
+collar ungrouted (the free length a ``pretension`` acts on). The mechanics and the symbols are
+in ``components/cables.py`` and ``components/liner.py``; units SI, forces of a cable per cable
+(N), divided by ``spacing`` (m, out of plane) inside. Reference: Itasca UDEC manual, structural
+elements (cable, liner); Farmer (1975) for the grouted bar's axial force decay.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+
+from .components.cables import Cables, no_cables
+from .components.liner import Liners, no_liners
+
+__all__ = ["Cable", "Liner", "install", "support_stiffness", "set_node_masses",
+           "support_log", "no_cables", "no_liners", "decay_length"]
+
+
+def _positive(where, **values):
+    for k, v in values.items():
+        if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+            raise ValueError(f"{where}: {k} must be a finite number > 0, got {v!r}")
+
+
+def _not_negative(where, **values):
+    for k, v in values.items():
+        if not (isinstance(v, (int, float)) and v >= 0 and not math.isnan(v)):
+            raise ValueError(f"{where}: {k} must be >= 0, got {v!r}")
+
+
+@dataclass(frozen=True)
+class Cable:
+    """A grouted cable or bolt from ``collar`` to ``end`` ((x, y) m, both in rock).
+
+    area (m^2), E (Pa): the steel; yield_tension, yield_compression (N, default the tension
+    value): axial yield forces; rupture_strain: total strain at which a segment breaks;
+    grout_stiffness (N/m per m of cable), grout_strength (N/m: force per metre of bond);
+    spacing (m): out-of-plane spacing of the cables this one stands for; segment_length (m,
+    default the median block radius); pretension (N) in the free length; free_length (m from
+    the collar, ungrouted); plate: the collar node is held to its block (no grout slip).
+    """
+
+    collar: tuple
+    end: tuple
+    area: float
+    E: float
+    yield_tension: float
+    grout_stiffness: float
+    grout_strength: float
+    yield_compression: float | None = None
+    rupture_strain: float = 0.1
+    spacing: float = 1.0
+    segment_length: float | None = None
+    pretension: float = 0.0
+    free_length: float = 0.0
+    plate: bool = False
+
+    def check(self, i=None, groups=None, materials=None):
+        where = "cable" if i is None else f"stage {i} (cable)"
+        pts = np.asarray([self.collar, self.end], dtype=np.float64)
+        if pts.shape != (2, 2) or not np.all(np.isfinite(pts)):
+            raise ValueError(f"{where}: collar and end must be (x, y) points, got "
+                             f"{self.collar!r}, {self.end!r}")
+        length = float(np.hypot(*(pts[1] - pts[0])))
+        if length <= 0:
+            raise ValueError(f"{where}: collar and end are the same point {self.collar!r}")
+        _positive(where, area=self.area, E=self.E, grout_stiffness=self.grout_stiffness,
+                  rupture_strain=self.rupture_strain, spacing=self.spacing)
+        _not_negative(where, yield_tension=self.yield_tension, grout_strength=self.grout_strength,
+                      pretension=self.pretension, free_length=self.free_length)
+        if self.yield_compression is not None:
+            _not_negative(where, yield_compression=self.yield_compression)
+        if self.segment_length is not None:
+            _positive(where, segment_length=self.segment_length)
+        if self.free_length >= length:
+            raise ValueError(f"{where}: free_length {self.free_length} m must be shorter than "
+                             f"the cable ({length:.4g} m)")
+        if self.pretension > 0 and self.free_length == 0:
+            raise ValueError(f"{where}: a pretension needs a free length to act on "
+                             "(free_length > 0)")
+        if self.pretension > self.yield_tension:
+            raise ValueError(f"{where}: pretension {self.pretension} N exceeds the yield force "
+                             f"{self.yield_tension} N")
+
+    def run(self, model):
+        return _install_stage(model, self, "cables", "node_cable")
+
+
+@dataclass(frozen=True)
+class Liner:
+    """A shotcrete liner on the exposed faces of the blocks of ``group`` (a named group:
+    the surface it covers), optionally only where a face's middle lies inside the polygon
+    ``within`` ([[x, y], ...] m). The faces must make one chain.
+
+    thickness (m), E (Pa), density (kg/m^3); tensile_yield, compressive_yield (Pa): the axial
+    yield forces are these x thickness; moment_capacity (N m/m, default tensile_yield x
+    thickness^2 / 6, the cracking moment); bond_kn, bond_ks (Pa/m), bond_tension, bond_shear
+    (Pa): the bond to the rock; segment_length (m, default the median block radius).
+    """
+
+    group: str
+    thickness: float
+    E: float
+    tensile_yield: float
+    compressive_yield: float
+    bond_kn: float
+    bond_ks: float
+    bond_tension: float
+    bond_shear: float
+    density: float = 2400.0
+    moment_capacity: float | None = None
+    segment_length: float | None = None
+    within: tuple | None = None
+
+    def check(self, i=None, groups=None, materials=None):
+        where = "liner" if i is None else f"stage {i} (liner)"
+        if groups is not None and self.group not in groups:
+            raise ValueError(f"{where}: no surface (group) named {self.group!r}; groups are "
+                             f"{sorted(groups)}")
+        _positive(where, thickness=self.thickness, E=self.E, bond_kn=self.bond_kn,
+                  bond_ks=self.bond_ks, density=self.density)
+        _not_negative(where, tensile_yield=self.tensile_yield,
+                      compressive_yield=self.compressive_yield,
+                      bond_tension=self.bond_tension, bond_shear=self.bond_shear)
+        for k in ("moment_capacity", "segment_length"):
+            if getattr(self, k) is not None:
+                _positive(where, **{k: getattr(self, k)})
+        if self.within is not None:
+            w = np.asarray(self.within, dtype=np.float64)
+            if w.ndim != 2 or w.shape[1] != 2 or len(w) < 3 or not np.all(np.isfinite(w)):
+                raise ValueError(f"{where}: within must be a polygon [[x, y], ...], got "
+                                 f"{self.within!r}")
+
+    def run(self, model):
+        return _install_stage(model, self, "liners", "node_liner")
+
+
+def decay_length(area, E, grout_stiffness) -> float:
+    """sqrt(E A / k_g), m: the length over which the axial force of an elastic grouted bar
+    decays by e (F(x) = F_0 exp(-x / lambda) along a long bar pulled at one end)."""
+    return math.sqrt(E * area / grout_stiffness)
+
+
+# ---------------------------------------------------------------- installing
+def _install_stage(model, item, bundle, ids):
+    """A "cable" or "liner" stage: install, report the new element's node count."""
+    install(model, item)
+    element = getattr(getattr(model, bundle), ids)
+    return 0, "installed", {"nodes": int((element == element.max()).sum())}
+
+
+def install(model, item):
+    """Install a ``Cable`` or ``Liner`` on ``model`` in its present pose (stress-free, except
+    a cable's pretension); the time step is recomputed."""
+    item.check(groups=set(model.blocks.groups))
+    if isinstance(item, Cable):
+        model.cables = _join(model.cables, _cable_arrays(model, item))
+    elif isinstance(item, Liner):
+        model.liners = _join(model.liners, _liner_arrays(model, item))
+    else:
+        raise ValueError(f"install takes a Cable or a Liner, got {type(item).__name__}")
+    model._update_timestep()
+
+
+def _join(bundle, new: dict):
+    """``bundle`` with the new element's arrays appended (indices shifted)."""
+    node0 = bundle.node_pos.shape[0]
+    element = int(bundle.node_cable.max() + 1 if isinstance(bundle, Cables) else
+                  bundle.node_liner.max() + 1) if node0 else 0
+    n_new = {"node": len(new["node_pos"]), **{k: len(new[f"{k}_{a}"]) for k, a in
+                                              (("seg", "a"), ("el", "a"), ("bond", "node"))
+                                              if f"{k}_{a}" in new}}
+    out = {"control": bundle.control, "log_count": bundle.log_count}
+    for f in bundle._fields:
+        old = getattr(bundle, f)
+        if f in out or f == "log_rows":
+            continue
+        if f in ("node_cable", "seg_cable", "node_liner", "el_liner"):
+            add = np.full(n_new[f.split("_")[0]], element, old.dtype)
+        else:
+            add = np.asarray(new[f], dtype=old.dtype).reshape((-1,) + old.shape[1:])
+        if f in ("seg_a", "seg_b", "el_a", "el_b", "bond_node"):
+            add = add + node0
+        out[f] = np.concatenate([old, add])
+    # each node and segment logs at most twice (slip or bond; yield and rupture)
+    cap = max(bundle.log_rows.shape[0], 2 * sum(n_new.values()) + 2 * node0 + 16)
+    out["log_rows"] = np.zeros((cap, 7))
+    out["log_rows"][:bundle.log_rows.shape[0]] = bundle.log_rows
+    return type(bundle)(**out)
+
+
+def _block_polygons(model):
+    p, s = model.props, model.state
+    from .detection import world_vertices
+    wv = world_vertices(s.pos, s.rot, p.vertex_offsets, p.local_vertices)
+    off = p.vertex_offsets
+    act = np.flatnonzero(p.active > 0)
+    return act, [shapely.Polygon(wv[off[b]:off[b + 1]]) for b in act]
+
+
+def _hosts(model, pts) -> np.ndarray:
+    """The active block containing each point (-1: none), by an R-tree of the block polygons."""
+    act, polys = _block_polygons(model)
+    tree = shapely.STRtree(polys)
+    where = tree.query(shapely.points(pts), predicate="intersects")
+    host = np.full(len(pts), -1, np.int64)
+    host[where[0][::-1]] = act[where[1][::-1]]          # first hit wins
+    return host
+
+
+def _body(model, host, xy):
+    """World points ``xy`` in their host blocks' body frames."""
+    s = model.state
+    d = xy - s.pos[host]
+    c, sn = s.rot[host, 0], s.rot[host, 1]
+    return np.column_stack([c * d[:, 0] + sn * d[:, 1], -sn * d[:, 0] + c * d[:, 1]])
+
+
+def _cable_arrays(model, cab: Cable) -> dict:
+    collar, end = np.asarray(cab.collar, float), np.asarray(cab.end, float)
+    length = float(np.hypot(*(end - collar)))
+    h = cab.segment_length or float(np.median(model.props.radius[model.props.active > 0]))
+    nseg = max(2, int(math.ceil(length / h - 1e-9)))
+    t = np.linspace(0.0, 1.0, nseg + 1)
+    xy = collar + t[:, None] * (end - collar)
+    host = _hosts(model, xy)
+    for name, i in (("collar", 0), ("end", nseg)):
+        if host[i] < 0:
+            raise ValueError(f"cable: the {name} {tuple(xy[i])} is not inside any active block "
+                             "(a cable starts and ends in rock)")
+    lseg = length / nseg
+    trib = np.full(nseg + 1, lseg)
+    trib[[0, -1]] = 0.5 * lseg
+    s = cab.spacing
+    along = t * length
+    free = along < cab.free_length - 1e-9 * length
+    cap = np.where(free, 0.0, cab.grout_strength * trib / s)
+    if cab.plate:
+        cap[0] = np.inf
+    local = np.zeros((nseg + 1, 2))
+    inside = host >= 0
+    local[inside] = _body(model, host[inside], xy[inside])
+    ea = cab.E * cab.area / (lseg * s)
+    seg_free = free[:-1] & (along[1:] <= cab.free_length + 1e-9 * length)
+    axis = (end - collar) / length
+    yc = cab.yield_tension if cab.yield_compression is None else cab.yield_compression
+    return dict(
+        node_pos=xy, node_vel=np.zeros((nseg + 1, 2)), node_force=np.zeros((nseg + 1, 2)),
+        node_tangent=np.zeros((nseg + 1, 2)), node_axis=np.tile(axis, (nseg + 1, 1)),
+        node_host=host, node_local=local, grout_k=cab.grout_stiffness * trib / s,
+        grout_cap=cap, grout_slip=np.zeros(nseg + 1), grout_force=np.zeros(nseg + 1),
+        node_state=np.zeros(nseg + 1), node_inv_mass=np.zeros(nseg + 1),
+        seg_a=np.arange(nseg), seg_b=np.arange(1, nseg + 1), seg_length0=np.full(nseg, lseg),
+        seg_k=np.full(nseg, ea), seg_yield_t=np.full(nseg, cab.yield_tension / s),
+        seg_yield_c=np.full(nseg, yc / s), seg_rupture=np.full(nseg, cab.rupture_strain),
+        seg_plastic=np.where(seg_free, -cab.pretension / s / ea, 0.0),
+        seg_force=np.where(seg_free, cab.pretension / s, 0.0), seg_state=np.zeros(nseg))
+
+
+def _liner_arrays(model, ln: Liner) -> dict:
+    from .components.water import exposed_faces
+    blocks = model.blocks
+    fb, f0, f1 = exposed_faces(blocks, model.props.active)
+    mine = np.isin(fb, model.group(ln.group))
+    if ln.within is not None:
+        mid = 0.5 * (f0 + f1) + blocks.centroid[fb]
+        inside = shapely.contains_xy(shapely.Polygon(np.asarray(ln.within, float)),
+                                     mid[:, 0], mid[:, 1])
+        mine &= inside
+    if not mine.any():
+        raise ValueError(f"liner: group {ln.group!r} has no exposed face"
+                         + (" inside `within`" if ln.within is not None else ""))
+    chain = _chain(fb[mine], f0[mine], f1[mine], blocks.centroid, ln.group)
+    h = ln.segment_length or float(np.median(model.props.radius[model.props.active > 0]))
+    st = model.state
+    nodes, bonds = [], []                 # bonds: (node, block, body point, normal, length)
+    for b, p0, p1 in chain:
+        d = p1 - p0
+        flen = float(np.hypot(*d))
+        k = max(1, int(math.ceil(flen / h - 1e-9)))
+        ends = [p0 + j / k * d for j in range(k + 1)]     # body frame of b
+        world = [st.pos[b] + _rotate(st.rot[b], e) for e in ends]
+        if not nodes:
+            nodes.append(world[0])
+        for j in range(k):
+            nodes.append(world[j + 1])
+            for node, e in ((len(nodes) - 2, ends[j]), (len(nodes) - 1, ends[j + 1])):
+                bonds.append((node, b, e, np.array([d[1], -d[0]]) / flen, 0.5 * flen / k))
+    xy = np.asarray(nodes)
+    n = len(xy)
+    bn = np.array([r[0] for r in bonds], np.int64)
+    host = np.array([r[1] for r in bonds], np.int64)
+    blen = np.array([r[4] for r in bonds])
+    mass = np.zeros(n)
+    np.add.at(mass, bn, ln.density * ln.thickness * blen)
+    d = np.diff(xy, axis=0)
+    t = ln.thickness
+    mp = ln.moment_capacity if ln.moment_capacity is not None else ln.tensile_yield * t * t / 6
+    return dict(
+        node_pos=xy, node_theta=np.zeros(n), node_vel=np.zeros((n, 2)), node_omega=np.zeros(n),
+        node_force=np.zeros((n, 3)), node_mass=mass, node_inv_mass=np.zeros(n),
+        node_inv_inertia=np.zeros(n),
+        bond_node=bn, bond_host=host, bond_local=np.array([r[2] for r in bonds]),
+        bond_normal=np.array([r[3] for r in bonds]), bond_theta0=st.theta[host],
+        bond_length=blen, bond_kn=ln.bond_kn * blen, bond_ks=ln.bond_ks * blen,
+        bond_kr=ln.bond_kn * blen ** 3 / 3.0, bond_tension=np.full(len(bn), ln.bond_tension),
+        bond_shear=np.full(len(bn), ln.bond_shear), bond_state=np.zeros(len(bn)),
+        bond_force=np.zeros((len(bn), 3)),
+        el_a=np.arange(n - 1), el_b=np.arange(1, n), el_length0=np.hypot(d[:, 0], d[:, 1]),
+        el_angle0=np.arctan2(d[:, 1], d[:, 0]), el_ea=np.full(n - 1, ln.E * t),
+        el_ei=np.full(n - 1, ln.E * t ** 3 / 12.0), el_nt=np.full(n - 1, ln.tensile_yield * t),
+        el_nc=np.full(n - 1, ln.compressive_yield * t), el_mp=np.full(n - 1, mp),
+        el_plastic=np.zeros((n - 1, 3)), el_force=np.zeros((n - 1, 3)), el_state=np.zeros(n - 1))
+
+
+def _rotate(rot, v):
+    return np.array([rot[0] * v[0] - rot[1] * v[1], rot[1] * v[0] + rot[0] * v[1]])
+
+
+def _chain(fb, f0, f1, centroid, group):
+    """The faces (block, p0, p1 in body frame) in order along one chain (faces of one block
+    run counter-clockwise, so along a free surface one face's end is the next one's start)."""
+    w0, w1 = f0 + centroid[fb], f1 + centroid[fb]
+    scale = float(np.ptp(np.vstack([w0, w1]), axis=0).max()) or 1.0
+    key = lambda p: tuple(np.round(p / (1e-7 * scale)).astype(np.int64))  # noqa: E731
+    starts = {key(p): i for i, p in enumerate(w0)}
+    nxt = np.array([starts.get(key(p), -1) for p in w1])
+    has_prev = np.zeros(len(fb), bool)
+    has_prev[nxt[nxt >= 0]] = True
+    heads = np.flatnonzero(~has_prev)
+    if len(heads) != 1:
+        raise ValueError(f"liner on {group!r}: its exposed faces make "
+                         f"{max(len(heads), 1) if len(heads) else 'a closed loop of'} separate "
+                         "chains; pick one stretch of surface with `within`")
+    order, i = [], int(heads[0])
+    while i >= 0 and len(order) < len(fb):
+        order.append(i)
+        i = int(nxt[i])
+    if len(order) != len(fb):
+        raise ValueError(f"liner on {group!r}: its exposed faces do not make one chain; pick "
+                         "one stretch of surface with `within`")
+    return [(int(fb[i]), f0[i], f1[i]) for i in order]
+
+
+# ---------------------------------------------------------------- time step
+def has_nodes(model) -> bool:
+    """Whether the model has any cable or liner."""
+    return model.cables.node_pos.shape[0] + model.liners.node_pos.shape[0] > 0
+
+
+def support_stiffness(model):
+    """(kt, kr) per block, N/m and N m: the grout and bond springs acting on each block, for
+    the blocks' frequency bound (``step.frequency_bound``: omega^2 <= 2 (kt/m + kr/I))."""
+    nb = model.n_blocks
+    kt, kr = np.zeros(nb), np.zeros(nb)
+    cb, ln = model.cables, model.liners
+    for host, local, k, k_turn in ((cb.node_host, cb.node_local, 2.0 * cb.grout_k, 0.0),
+                                   (ln.bond_host, ln.bond_local, ln.bond_kn + ln.bond_ks,
+                                    ln.bond_kr)):
+        ok = host >= 0
+        np.add.at(kt, host[ok], k[ok])
+        np.add.at(kr, host[ok], (k * (local ** 2).sum(axis=1) + 2.0 * k_turn)[ok])
+    return kt, kr
+
+
+def set_node_masses(model, w2max: float):
+    """Inertial masses of the support nodes: each node's Gershgorin bound 2 k / m equals the
+    blocks' largest omega^2 (``w2max``), so the nodes never set the time step. A liner node's
+    moment of inertia is m l^2 (l its shorter element), which bounds its rotation the same
+    way."""
+    cb, ln = model.cables, model.liners
+    if cb.node_pos.shape[0]:
+        k = 2.0 * cb.grout_k.copy()
+        np.add.at(k, cb.seg_a, 3.0 * cb.seg_k)
+        np.add.at(k, cb.seg_b, 3.0 * cb.seg_k)
+        cb.node_inv_mass[:] = w2max / (2.0 * k)
+    if ln.node_pos.shape[0]:
+        nn = ln.node_pos.shape[0]
+        kel = 2.0 * ln.el_ea / ln.el_length0 + 36.0 * ln.el_ei / ln.el_length0 ** 3
+        k, k_turn = np.zeros(nn), np.zeros(nn)
+        np.add.at(k, ln.bond_node, ln.bond_kn + ln.bond_ks)
+        np.add.at(k_turn, ln.bond_node, 2.0 * ln.bond_kr)
+        np.add.at(k, ln.el_a, kel)
+        np.add.at(k, ln.el_b, kel)
+        lmin = np.full(nn, np.inf)
+        np.minimum.at(lmin, ln.el_a, ln.el_length0)
+        np.minimum.at(lmin, ln.el_b, ln.el_length0)
+        mass = np.maximum(2.0 * k / w2max, ln.node_mass)
+        inertia = mass * lmin ** 2 + 2.0 * k_turn / w2max
+        ln.node_inv_mass[:] = 1.0 / mass
+        ln.node_inv_inertia[:] = 1.0 / inertia
+
+
+def set_controls(model):
+    """The support bundles' clock, dt, damping and gravity for the next run of steps."""
+    for b in (model.cables, model.liners):
+        b.control[0], b.control[1], b.control[2] = model.dt, model.damping, model.time
+    model.liners.control[3:5] = model.gravity
+
+
+def unbalanced(model):
+    """(sum |unbalanced force|, sum of the forces acting) over the support nodes, N/m: their
+    part of the model's unbalanced ratio (``monitor.unbalanced_ratio``)."""
+    cb, ln = model.cables, model.liners
+    num = float(np.hypot(*cb.node_force.T).sum()) + float(np.hypot(*ln.node_force[:, :2].T).sum())
+    shear = np.abs(ln.el_force[:, 1] + ln.el_force[:, 2]) / ln.el_length0
+    den = (2.0 * float(np.abs(cb.seg_force).sum()) + float(np.abs(cb.grout_force).sum())
+           + 2.0 * float((np.abs(ln.el_force[:, 0]) + shear).sum())
+           + float(np.hypot(*ln.bond_force[:, :2].T).sum())
+           + float(ln.node_mass.sum()) * float(np.hypot(*model.gravity)))
+    return num, den
+
+
+# ---------------------------------------------------------------- results
+_KINDS = {11: "grout slip", 12: "yield", 13: "rupture", 14: "bond failure"}
+
+
+def support_log(model) -> dict:
+    """Support events so far: time (s), x, y (m), kind ("grout slip", "yield", "rupture",
+    "bond failure"), element ("cable i" / "liner i") and part (node or segment index)."""
+    out = {"time": [], "x": [], "y": [], "kind": [], "element": [], "part": []}
+    for what, b in (("cable", model.cables), ("liner", model.liners)):
+        n = min(int(b.log_count[0]), b.log_rows.shape[0])
+        for r in b.log_rows[:n]:
+            out["time"].append(r[0])
+            out["x"].append(r[1])
+            out["y"].append(r[2])
+            out["kind"].append(_KINDS[int(r[3])])
+            out["element"].append(f"{what} {int(r[4])}")
+            out["part"].append(int(r[5]))
+    return out
