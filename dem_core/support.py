@@ -260,6 +260,7 @@ def _cable_arrays(model, cab: Cable) -> dict:
     yc = cab.yield_tension if cab.yield_compression is None else cab.yield_compression
     return dict(
         node_pos=xy, node_vel=np.zeros((nseg + 1, 2)), node_force=np.zeros((nseg + 1, 2)),
+        node_pos0=xy.copy(),
         node_tangent=np.zeros((nseg + 1, 2)), node_axis=np.tile(axis, (nseg + 1, 1)),
         node_host=host, node_local=local, grout_k=cab.grout_stiffness * trib / s,
         grout_cap=cap, grout_slip=np.zeros(nseg + 1), grout_force=np.zeros(nseg + 1),
@@ -312,7 +313,7 @@ def _liner_arrays(model, ln: Liner) -> dict:
     mp = ln.moment_capacity if ln.moment_capacity is not None else ln.tensile_yield * t * t / 6
     return dict(
         node_pos=xy, node_theta=np.zeros(n), node_vel=np.zeros((n, 2)), node_omega=np.zeros(n),
-        node_force=np.zeros((n, 3)), node_mass=mass, node_inv_mass=np.zeros(n),
+        node_force=np.zeros((n, 3)), node_pos0=xy.copy(), node_mass=mass, node_inv_mass=np.zeros(n),
         node_inv_inertia=np.zeros(n),
         bond_node=bn, bond_host=host, bond_local=np.array([r[2] for r in bonds]),
         bond_normal=np.array([r[3] for r in bonds]), bond_theta0=st.theta[host],

@@ -83,10 +83,11 @@ def scene(spacing=5.0, f_step=0.02, cross=None):
                  stages=stages, solver={"mass_scaling": True, "damping": 0.8})
 
 
-def planar_sliding(model):
-    """(F, joint offset): the smallest limit-equilibrium F of planar sliding on one of the
-    model's bedding joints (module docstring); the wedge must not touch the model's sides or
-    base. The joints are read from the model's bedding edges."""
+def sliding_wedges(model):
+    """(joint offset, wedge polygon, joint piece under it, weight N/m, water force on the
+    joint N/m) of every wedge above one of the model's bedding joints that daylights and
+    touches neither the model's sides nor its base (module docstring). The joints are read
+    from the model's bedding edges."""
     bs = model.blocks
     bed = bs.material_names.index("joint:bedding")
     on = bs.edge_material == bed
@@ -94,7 +95,6 @@ def planar_sliding(model):
     n = np.array([math.sin(psi), math.cos(psi)])                # normal of the bedding lines
     offsets = np.unique(np.round((bs.edge_p0[on] @ n), 6))
     slope = shapely.Polygon(slope_profile(H, FACE, CREST, TOE, BASE).exterior)
-    best = (math.inf, None)
     t = np.array([math.cos(psi), -math.sin(psi)])               # down the dip
     for d in offsets:
         line = LineString([d * n - 500.0 * t, d * n + 500.0 * t])
@@ -114,11 +114,15 @@ def planar_sliding(model):
             xy = np.array([plane.interpolate(v, normalized=True).coords[0]
                            for v in np.linspace(0.0, 1.0, 401)])
             u = np.trapz(WATER.pressure(xy[:, 0], xy[:, 1]), dx=plane.length / 400)
-            w = DENSITY * 9.81 * wedge.area
-            f = (JOINT.cohesion * plane.length + (w * math.cos(psi) - u) *
-                 math.tan(math.radians(JOINT.friction))) / (w * math.sin(psi))
-            best = min(best, (f, float(d)), key=lambda b: b[0])
-    return best
+            yield float(d), wedge, plane, DENSITY * 9.81 * wedge.area, u
+
+
+def planar_sliding(model):
+    """(F, joint offset): the smallest limit-equilibrium F of planar sliding on one of the
+    model's bedding joints, F = (c L + (W cos psi - U) tan phi) / (W sin psi)."""
+    psi, tan_phi = math.radians(BEDDING), math.tan(math.radians(JOINT.friction))
+    return min(((JOINT.cohesion * plane.length + (w * math.cos(psi) - u) * tan_phi) /
+                (w * math.sin(psi)), d) for d, _, plane, w, u in sliding_wedges(model))
 
 
 def main(quick=True, with_continuum=None):

@@ -53,6 +53,7 @@ class Cables(NamedTuple):
 
     control : (3,) float64. dt (s), local damping alpha, time (s) of the component's clock.
     node_pos, node_vel : (N, 2) float64, m and m/s. node_force : (N, 2) N/m (scratch).
+    node_pos0 : (N, 2) m, where each node was installed.
     node_tangent : (N, 2) scratch. node_axis : (N, 2) the axis at installation (unit).
     node_host : (N,) int64 block holding the node (-1: none). node_local : (N, 2) m, the host
         point in the host's body frame.
@@ -72,6 +73,7 @@ class Cables(NamedTuple):
     node_pos: np.ndarray
     node_vel: np.ndarray
     node_force: np.ndarray
+    node_pos0: np.ndarray
     node_tangent: np.ndarray
     node_axis: np.ndarray
     node_host: np.ndarray
@@ -100,7 +102,8 @@ class Cables(NamedTuple):
 
 _INT = {"node_host", "node_cable", "seg_a", "seg_b", "seg_cable", "log_count"}
 _INT8 = {"node_state", "seg_state"}
-_PAIRS = {"node_pos", "node_vel", "node_force", "node_tangent", "node_axis", "node_local"}
+_PAIRS = {"node_pos", "node_vel", "node_force", "node_pos0", "node_tangent", "node_axis",
+          "node_local"}
 
 
 def no_cables() -> Cables:

@@ -54,7 +54,8 @@ class Liners(NamedTuple):
 
     control : (5,) float64. dt (s), local damping alpha, time (s), gravity gx, gy (m/s^2).
     node_pos : (N, 2) m. node_theta : (N,) rad. node_vel : (N, 2) m/s. node_omega : (N,) rad/s.
-    node_force : (N, 3) N/m, N m/m (scratch). node_mass : (N,) kg/m real. node_inv_mass,
+    node_force : (N, 3) N/m, N m/m (scratch). node_pos0 : (N, 2) m, where each node was
+    installed. node_mass : (N,) kg/m real. node_inv_mass,
     node_inv_inertia : (N,) inertial. node_liner : (N,) int64.
     bond_node, bond_host : (B,) int64. bond_local, bond_normal : (B, 2) the host point (m) and
         the face's outward normal, host body frame. bond_theta0 : (B,) host rotation at
@@ -75,6 +76,7 @@ class Liners(NamedTuple):
     node_vel: np.ndarray
     node_omega: np.ndarray
     node_force: np.ndarray
+    node_pos0: np.ndarray
     node_mass: np.ndarray
     node_inv_mass: np.ndarray
     node_inv_inertia: np.ndarray
@@ -111,7 +113,7 @@ class Liners(NamedTuple):
 
 _INT = {"bond_node", "bond_host", "node_liner", "el_a", "el_b", "el_liner", "log_count"}
 _INT8 = {"bond_state", "el_state"}
-_WIDTH = {"node_pos": 2, "node_vel": 2, "node_force": 3, "bond_local": 2, "bond_normal": 2,
+_WIDTH = {"node_pos": 2, "node_pos0": 2, "node_vel": 2, "node_force": 3, "bond_local": 2, "bond_normal": 2,
           "bond_force": 3, "el_plastic": 3, "el_force": 3}
 
 
