@@ -50,8 +50,11 @@ class Cable:
     value): axial yield forces; rupture_strain: total strain at which a segment breaks;
     grout_stiffness (N/m per m of cable), grout_strength (N/m: force per metre of bond);
     spacing (m): out-of-plane spacing of the cables this one stands for; segment_length (m,
-    default the median block radius); pretension (N) in the free length; free_length (m from
-    the collar, ungrouted); plate: the collar node is held to its block (no grout slip).
+    default the median block radius); free_length (m from the collar, ungrouted); plate: a face
+    plate holds the collar node to its block (a spring ten times a segment's axial stiffness,
+    no slip); pretension (N, needs a plate and a free length): the locked-off force, i.e. the
+    free length is stretched by what it takes to hold this force once the grouted anchor
+    (elastic draw-in s / sqrt(E A k_g)) and the plate have taken it up.
     """
 
     collar: tuple
@@ -89,9 +92,9 @@ class Cable:
         if self.free_length >= length:
             raise ValueError(f"{where}: free_length {self.free_length} m must be shorter than "
                              f"the cable ({length:.4g} m)")
-        if self.pretension > 0 and self.free_length == 0:
+        if self.pretension > 0 and (self.free_length == 0 or not self.plate):
             raise ValueError(f"{where}: a pretension needs a free length to act on "
-                             "(free_length > 0)")
+                             "(free_length > 0) and a face plate (plate=True)")
         if self.pretension > self.yield_tension:
             raise ValueError(f"{where}: pretension {self.pretension} N exceeds the yield force "
                              f"{self.yield_tension} N")
@@ -249,27 +252,33 @@ def _cable_arrays(model, cab: Cable) -> dict:
     along = t * length
     free = along < cab.free_length - 1e-9 * length
     cap = np.where(free, 0.0, cab.grout_strength * trib / s)
+    grout_k = cab.grout_stiffness * trib / s
+    ea = cab.E * cab.area / (lseg * s)
     if cab.plate:
-        cap[0] = np.inf
+        cap[0], grout_k[0] = np.inf, 10.0 * ea
     local = np.zeros((nseg + 1, 2))
     inside = host >= 0
     local[inside] = _body(model, host[inside], xy[inside])
-    ea = cab.E * cab.area / (lseg * s)
     seg_free = free[:-1] & (along[1:] <= cab.free_length + 1e-9 * length)
+    # lock-off: stretch the free length by what holds the pretension after the anchor's and
+    # the plate's draw-in (compliances per unit thickness, m per N/m)
+    n_free = max(int(seg_free.sum()), 1)
+    draw_in = (n_free / ea + s / math.sqrt(cab.E * cab.area * cab.grout_stiffness)
+               + 1.0 / grout_k[0]) * cab.pretension / s
     axis = (end - collar) / length
     yc = cab.yield_tension if cab.yield_compression is None else cab.yield_compression
     return dict(
         node_pos=xy, node_vel=np.zeros((nseg + 1, 2)), node_force=np.zeros((nseg + 1, 2)),
         node_pos0=xy.copy(),
         node_tangent=np.zeros((nseg + 1, 2)), node_axis=np.tile(axis, (nseg + 1, 1)),
-        node_host=host, node_local=local, grout_k=cab.grout_stiffness * trib / s,
+        node_host=host, node_local=local, grout_k=grout_k,
         grout_cap=cap, grout_slip=np.zeros(nseg + 1), grout_force=np.zeros(nseg + 1),
         node_state=np.zeros(nseg + 1), node_inv_mass=np.zeros(nseg + 1),
         seg_a=np.arange(nseg), seg_b=np.arange(1, nseg + 1), seg_length0=np.full(nseg, lseg),
         seg_k=np.full(nseg, ea), seg_yield_t=np.full(nseg, cab.yield_tension / s),
         seg_yield_c=np.full(nseg, yc / s), seg_rupture=np.full(nseg, cab.rupture_strain),
-        seg_plastic=np.where(seg_free, -cab.pretension / s / ea, 0.0),
-        seg_force=np.where(seg_free, cab.pretension / s, 0.0), seg_state=np.zeros(nseg))
+        seg_plastic=np.where(seg_free, -draw_in / n_free, 0.0),
+        seg_force=np.where(seg_free, ea * draw_in / n_free, 0.0), seg_state=np.zeros(nseg))
 
 
 def _liner_arrays(model, ln: Liner) -> dict:

@@ -174,6 +174,7 @@ def test_support_as_stages_of_a_scene_file():
     (dict(area=-1e-4), "area"),
     (dict(yield_tension=-1.0), "yield_tension"),
     (dict(pretension=1e3), "free length"),
+    (dict(pretension=1e3, free_length=1.0), "plate"),
 ])
 def test_bad_cables_are_refused_before_compute(change, message):
     props = dict(collar=(1.05, 1.0), end=(8.95, 1.0), area=5e-4, E=200e9, yield_tension=1e7,
@@ -190,3 +191,26 @@ def test_a_liner_on_an_unknown_surface_is_refused():
         m.install(Liner("crown", thickness=0.1, E=30e9, tensile_yield=3e6,
                         compressive_yield=30e6, bond_kn=1e10, bond_ks=1e10, bond_tension=1e6,
                         bond_shear=1e6))
+
+
+def test_a_pretensioned_bolt_with_a_plate_presses_its_block_down_by_its_force():
+    geo = GeometrySpec([rectangle("base", 0, 0, 6, 1), rectangle("block", 2, 1, 4, 2)])
+    sc = Scene(geo, {"*": Material(kn=1e9, ks=1e9, friction=PHI)}, density=RHO,
+               boundaries=[Boundary("base")])
+    m = build_model(sc)
+    m.set_gravity(1.0)
+    pre = 1e4
+    m.install(Cable((3.0, 1.9), (3.0, 0.1), area=1e-4, E=200e9, yield_tension=5e4,
+                    grout_stiffness=1e9, grout_strength=1e7, segment_length=0.1,
+                    pretension=pre, free_length=1.0, plate=True))
+    assert m.solve(ratio=1e-7, max_steps=100_000).verdict == "equilibrium"
+    cb = m.cables
+    free = cb.seg_force[:9]                          # the segments of the free length
+    assert np.ptp(free) < 1e-6 * pre                 # no grout: one force along it
+    # locked off at the pretension (the joint's squeeze is the only draw-in not allowed for)
+    assert free[0] == pytest.approx(pre, rel=0.02)
+    c = m.contacts
+    block = m.group("block")[0]
+    mine = (c.live("block_a") == block) | (c.live("block_b") == block)
+    carried = float((c.live("sn") * c.live("length"))[mine].sum())
+    assert carried == pytest.approx(RHO * G * 2.0 + free[0], rel=1e-4)
