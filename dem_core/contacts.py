@@ -46,7 +46,7 @@ INTACT, TENSION, SHEAR, UNBONDED = 0, 1, 2, 3   # UNBONDED: made by the search, 
 
 _VECTORS = ("point_a", "point_b", "normal_b")
 _DTYPES = {"block_a": np.int32, "block_b": np.int32, "vertex_a": np.int32,
-           "edge_b": np.int32, "material": np.int32, "broken": np.int8, "slipping": np.int8,
+           "edge_b": np.int32, "partner": np.int32, "material": np.int32, "broken": np.int8, "slipping": np.int8,
            "anchor": np.int8, "face": np.int8}
 
 
@@ -63,6 +63,9 @@ class Contacts(NamedTuple):
         against a face (the face's normal).
     anchor : (cap,) int8. Which point the contact follows when it slips or opens: ANCHOR_A
         (A's vertex), ANCHOR_B (the point is a vertex of B), ANCHOR_MID (neither: midway).
+    partner : (cap,) int32. The other half of the same shared edge (its row), -1 for a
+        contact that is not half of an edge: the two carry the edge's stress as one linear
+        interface element (``forces.edge_correction``).
     length : (cap,) float64, m. Length the contact represents.
     kn, ks : (cap,) float64, Pa/m. Stiffness (material in series with the blocks), set when the
         contact is made.
@@ -88,6 +91,7 @@ class Contacts(NamedTuple):
     normal_b: np.ndarray
     face: np.ndarray
     anchor: np.ndarray
+    partner: np.ndarray
     length: np.ndarray
     kn: np.ndarray
     ks: np.ndarray
@@ -108,6 +112,7 @@ class Contacts(NamedTuple):
         for name in ARRAYS:
             shape = (cap, 2) if name in _VECTORS else (cap,)
             arrs[name] = np.zeros(shape, dtype=_DTYPES.get(name, np.float64))
+        arrs["partner"][:] = -1
         return cls(**arrs, count=np.zeros(1, np.int64))
 
     @property
@@ -131,6 +136,11 @@ class Contacts(NamedTuple):
         for name in ARRAYS:
             getattr(new, name)[:rows.size] = getattr(self, name)[rows]
         new.count[0] = rows.size
+        # partners follow their rows; a partner left out leaves its half alone
+        where = np.full(self.n + 1, -1, np.int64)
+        where[rows] = np.arange(rows.size)
+        old = self.partner[rows].astype(np.int64)
+        new.partner[:rows.size] = where[np.where(old >= 0, old, self.n)]
         return new
 
     def live(self, name: str) -> np.ndarray:
@@ -168,7 +178,8 @@ class Contacts(NamedTuple):
         n = len(d["contacts.block_a"])
         c = cls.empty(int(n * headroom) + 64)
         for name in ARRAYS:
-            getattr(c, name)[:n] = d[f"contacts.{name}"]
+            if f"contacts.{name}" in d or name != "partner":      # (files before partners)
+                getattr(c, name)[:n] = d[f"contacts.{name}"]
         c.count[0] = n
         return c
 
@@ -249,6 +260,7 @@ def initial_contacts(bs, headroom: float = 1.5) -> Contacts:
     c.normal_b[:m] = nrm
     c.face[:m] = 1                    # face against face: both blocks unrotated at the start
     c.anchor[:m] = np.where(va >= 0, ANCHOR_A, np.where(vb, ANCHOR_B, ANCHOR_MID))
+    c.partner[0:m:2], c.partner[1:m:2] = np.arange(1, m, 2), np.arange(0, m, 2)
     c.length[:m] = 0.5 * np.repeat(np.asarray(bs.edge_length, np.float64), 2)
     c.material[:m] = np.repeat(np.asarray(bs.edge_material), 2)
     c.count[0] = m

@@ -449,6 +449,7 @@ def update_contacts(c: Contacts, s, p, table, new_material: int, margin: float):
         new.length[r] = L
         new.face[r] = 0                           # a vertex against a face
         new.anchor[r] = ANCHOR_A
+        new.partner[r] = -1
         new.material[r] = _touched_material(p, table, new_material, cand)
         new.broken[r] = UNBONDED
         new.slipping[r] = 0

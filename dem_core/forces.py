@@ -1,6 +1,21 @@
 """Contact forces: each contact's geometry (``contacts.py``), its law (``law.py``) and the
 force it adds to its two blocks. Forces go into ``BlockState.force`` ((nb, 3): fx, fy in N/m,
 moment in N m/m, CCW +).
+
+The two contacts of a shared edge (``Contacts.partner``) are one linear interface element: each
+keeps the stress at its end of the edge (sigma_1, sigma_2: what the law updates and the
+strength is checked against, the peak of a linear distribution), and the edge transmits the
+resultant of the linear stress between them, i.e. end forces (L/6) (2 sigma_1 + sigma_2) and
+(L/6) (sigma_1 + 2 sigma_2) for an edge of length L (the consistent forces of a linear
+element; the same for the shear stress). Each contact adds its lumped force (L/2) sigma_i, and
+the later of the two adds the difference, (L/6) (sigma_2 - sigma_1) at end 1 and its opposite
+at end 2: a couple (``edge_correction``). When one end is open (separated: it carries nothing,
+its spring stretched past the cut-off), the edge carries the compressed part of the same linear
+field, a triangle whose resultant moves from L/3 towards the closed corner as the edge opens
+(a rigid block tips about its corner as on an elastic foundation), the shear stress of the
+closed end spread in proportion. The edge then turns under a moment M with the rotational
+stiffness kn L^3/12 and fails (an end reaches T) at M = T L^2/6, the elastic values; lumped
+end forces alone give kn L^3/4 and T L^2/2 (three times too stiff and too strong in bending).
 """
 from __future__ import annotations
 
@@ -13,7 +28,7 @@ from .contacts import ANCHOR_A, ANCHOR_B
 from .kinematics import body_point, contact_normal, unrotate
 from .law import coulomb_law
 
-__all__ = ["add_contact_forces", "contact_update", "log_crack"]
+__all__ = ["add_contact_forces", "contact_update", "log_crack", "edge_correction"]
 
 
 @njit(cache=True, inline="always")
@@ -51,6 +66,71 @@ def contact_update(k, c, strength, s):
     py = ya if anchor == ANCHOR_A else (yb if anchor == ANCHOR_B else 0.5 * (ya + yb))
     L = c.length[k]
     return L * (s_n * nx - t_s * ny), L * (s_n * ny + t_s * nx), px, py, event
+
+
+@njit(cache=True, inline="always")
+def _force_point(k, c, s):
+    """World point (m) the force of contact k acts at (its anchor: ``contact_update``)."""
+    anchor = c.anchor[k]
+    if anchor == ANCHOR_A:
+        return body_point(s.pos, s.rot, c.block_a[k], c.point_a[k, 0], c.point_a[k, 1])
+    xb, yb = body_point(s.pos, s.rot, c.block_b[k], c.point_b[k, 0], c.point_b[k, 1])
+    if anchor == ANCHOR_B:
+        return xb, yb
+    xa, ya = body_point(s.pos, s.rot, c.block_a[k], c.point_a[k, 0], c.point_a[k, 1])
+    return 0.5 * (xa + xb), 0.5 * (ya + yb)
+
+
+@njit(cache=True)        # not inlined: the same machine arithmetic in both kernels
+def edge_correction(k, c, s, xk, yk):
+    """What turns the lumped forces of contact k and its partner p (this step's stresses:
+    p < k in contact order) into the edge's element (module docstring): (fx, fy) the extra
+    force on B (N/m; minus it on A), and the extra moments (N m/m) on B about B's centroid and
+    on A about A's. The forces act at k's point (xk, yk) and at p's."""
+    p = c.partner[k]
+    le = c.length[k] + c.length[p]
+    sk, sp = c.sn[k], c.sn[p]
+    closed_k, closed_p = sk == c.sn_elastic[k], sp == c.sn_elastic[p]
+    if closed_k and closed_p:            # linear: a couple, (L/6)(s_p - s_k) at k, minus at p
+        w = le / 6.0
+        dk, dt = w * (sp - sk), w * (c.ts[p] - c.ts[k])
+        dp, dtp = -dk, -dt
+    elif closed_k and sk > 0.0:          # p open: the compressed part of the linear field
+        rk, rp = _open_end(sk, c.sn_elastic[p], le, c.length[k])
+        lk = c.length[k]
+        dk, dp, dt, dtp = (rk - 1.0) * lk * sk, rp * lk * sk, (rk - 1.0) * lk * c.ts[k], \
+            rp * lk * c.ts[k]
+    elif closed_p and sp > 0.0:          # k open
+        rp, rk = _open_end(sp, c.sn_elastic[k], le, c.length[p])
+        lp = c.length[p]
+        dp, dk, dtp, dt = (rp - 1.0) * lp * sp, rk * lp * sp, (rp - 1.0) * lp * c.ts[p], \
+            rk * lp * c.ts[p]
+    else:
+        return 0.0, 0.0, 0.0, 0.0
+    a, b = c.block_a[k], c.block_b[k]
+    nx, ny = contact_normal(s, a, b, c.face[k], c.normal_b[k, 0], c.normal_b[k, 1])
+    fkx, fky = dk * nx - dt * ny, dk * ny + dt * nx
+    fpx, fpy = dp * nx - dtp * ny, dp * ny + dtp * nx
+    xp, yp = _force_point(p, c, s)
+    mb = ((xk - s.pos[b, 0]) * fky - (yk - s.pos[b, 1]) * fkx
+          + (xp - s.pos[b, 0]) * fpy - (yp - s.pos[b, 1]) * fpx)
+    ma = ((xk - s.pos[a, 0]) * fky - (yk - s.pos[a, 1]) * fkx
+          + (xp - s.pos[a, 0]) * fpy - (yp - s.pos[a, 1]) * fpx)
+    return fkx + fpx, fky + fpy, mb, ma
+
+
+@njit(cache=True, inline="always")
+def _open_end(s_closed, e_open, le, l_closed):
+    """(closed end's share, open end's share) of the edge's force, each as a fraction of the
+    closed end's lumped force l_closed s, when one end of an edge of length ``le`` is open
+    (elastic stress ``e_open`` < 0) and the other carries ``s_closed`` > 0: the edge carries
+    the compressed part of the linear field, a triangle over x0 = le s / (s - e) with its
+    resultant s x0 / 2 at x0 / 3 from the closed end, shared between the ends by statics. The
+    closed end's shear stress is spread the same way (slip stays at the friction limit)."""
+    x0 = le * s_closed / (s_closed - e_open)
+    total = 0.5 * x0 / l_closed
+    far = total * x0 / (3.0 * le)
+    return total - far, far
 
 
 @njit(cache=True)        # not inlined: rare (slip or opening), kept out of the hot loop's code
@@ -113,3 +193,12 @@ def add_contact_forces(c, strength, s, cracks, time):
         f[a, 0] -= fx
         f[a, 1] -= fy
         f[a, 2] -= (xa - pos[a, 0]) * fy - (ya - pos[a, 1]) * fx
+        p = c.partner[k]
+        if 0 <= p < k:                     # the second half of an edge: the element's share
+            gx, gy, mb, ma = edge_correction(k, c, s, xa, ya)
+            f[b, 0] += gx
+            f[b, 1] += gy
+            f[b, 2] += mb
+            f[a, 0] -= gx
+            f[a, 1] -= gy
+            f[a, 2] -= ma

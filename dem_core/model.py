@@ -454,7 +454,7 @@ class Model:
 
     def strain_energy(self) -> float:
         c = self.contacts
-        return monitor.strain_energy(c.n, c.length, c.kn, c.ks, c.sn, c.ts)
+        return monitor.strain_energy(c)
 
     def gravity_energy(self) -> float:
         """Potential of gravity relative to the initial positions, J/m."""

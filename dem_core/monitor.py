@@ -64,11 +64,30 @@ def kinetic_energy(vel, omega, mass, inertia, active):
 
 
 @njit(cache=True)
-def strain_energy(nc, length, kn, ks, sn, ts):
-    """Elastic energy stored in the contact springs, J/m: sum L (sn^2/kn + ts^2/ks) / 2."""
+def strain_energy(c):
+    """Elastic energy stored in the contacts (a ``Contacts``), J/m: integral of
+    (sn^2/kn + ts^2/ks) / 2 over the length each carries. A lone contact's stress is uniform over
+    its length L: L (sn^2/kn + ts^2/ks) / 2; the two halves of an edge carry a linear field
+    (``forces`` module docstring): (Le/6) (s1^2 + s1 s2 + s2^2) / kn and the same in shear, or,
+    with one end open, the triangle over x0: x0 (s^2/kn + t^2/ks) / 6."""
     e = 0.0
-    for k in range(nc):
-        e += 0.5 * length[k] * (sn[k] ** 2 / kn[k] + ts[k] ** 2 / ks[k])
+    for k in range(c.count[0]):
+        p = c.partner[k]
+        if p > k:
+            continue                        # an edge is counted at its second half
+        sk, tk, kn, ks = c.sn[k], c.ts[k], c.kn[k], c.ks[k]
+        if p < 0:
+            e += 0.5 * c.length[k] * (sk * sk / kn + tk * tk / ks)
+            continue
+        sp, tp, le = c.sn[p], c.ts[p], c.length[k] + c.length[p]
+        closed_k, closed_p = sk == c.sn_elastic[k], sp == c.sn_elastic[p]
+        if closed_k and closed_p:
+            e += le / 6.0 * ((sk * sk + sk * sp + sp * sp) / kn + (tk * tk + tk * tp + tp * tp)
+                             / ks)
+        elif closed_k and sk > 0.0:
+            e += le * sk / (sk - c.sn_elastic[p]) * (sk * sk / kn + tk * tk / ks) / 6.0
+        elif closed_p and sp > 0.0:
+            e += le * sp / (sp - c.sn_elastic[k]) * (sp * sp / c.kn[p] + tp * tp / c.ks[p]) / 6.0
     return e
 
 

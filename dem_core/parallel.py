@@ -20,7 +20,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit, prange
 
-from .forces import contact_update, log_crack
+from .forces import contact_update, edge_correction, log_crack
 
 __all__ = ["Parallel", "contact_table", "add_contact_forces_parallel", "no_parallel",
            "parallel_bundle"]
@@ -127,3 +127,14 @@ def add_contact_forces_parallel(c, strength, s, cracks, time, par):
                 f[i, 0] -= fx
                 f[i, 1] -= fy
                 f[i, 2] -= (xa - pos[i, 0]) * fy - (ya - pos[i, 1]) * fx
+            p = c.partner[k]
+            if 0 <= p < k:                   # the edge's share (forces.edge_correction)
+                gx, gy, mb, ma = edge_correction(k, c, s, xa, ya)
+                if e & 1:
+                    f[i, 0] += gx
+                    f[i, 1] += gy
+                    f[i, 2] += mb
+                else:
+                    f[i, 0] -= gx
+                    f[i, 1] -= gy
+                    f[i, 2] -= ma
