@@ -164,8 +164,7 @@ def variants(m, items, log):
     for name, support in items.items():
         m.restore(base)
         t0 = time.perf_counter()
-        for item in support:
-            m.install(item)
+        m.install(list(support))          # one search of the blocks for all
         t_install = time.perf_counter() - t0
         m.cycle(20)                       # warm-up: compile or load the caches
         cb, ln = m.cables, m.liners

@@ -351,8 +351,8 @@ class Model:
         self._update_timestep()
 
     def install(self, item):
-        """Install support: a ``support.Cable`` (or bolt) or ``support.Liner``, stress-free in
-        the present pose (``dem_core.support``)."""
+        """Install support: a ``support.Cable`` (or bolt) or ``support.Liner``, or a list of
+        them, stress-free in the present pose (``dem_core.support``)."""
         support.install(self, item)
 
     def set_water(self, table):
