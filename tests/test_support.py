@@ -219,12 +219,12 @@ def test_a_pretensioned_bolt_with_a_plate_presses_its_block_down_by_its_force():
 def test_cables_and_liners_are_written_for_paraview(tmp_path):
     import meshio
 
-    from dem_core.vtk import KIND_SUPPORT, write_vtk
+    from dem_core.vtk import KIND_SUPPORT
 
     m = pulled_cable(two_blocks())
     m.apply_load("block", fx=1e5)
     m.cycle(300)
-    write_vtk(m, tmp_path / "m.vtu")
+    m.write_vtk(tmp_path / "m.vtu")
     back = meshio.read(tmp_path / "m.vtu")
     kind = np.concatenate(back.cell_data["kind"])
     force = np.concatenate(back.cell_data["axial_force"])[kind == KIND_SUPPORT]
