@@ -351,9 +351,15 @@ class Model:
         self._update_timestep()
 
     def install(self, item):
-        """Install support: a ``support.Cable`` (or bolt) or ``support.Liner``, stress-free in
-        the present pose (``dem_core.support``)."""
+        """Install support: a ``support.Cable`` (or bolt) or ``support.Liner``, or a list of
+        them, stress-free in the present pose (``dem_core.support``)."""
         support.install(self, item)
+
+    def write_vtk(self, path):
+        """Write the present state for ParaView (.vtu: blocks, contacts, cracks, support;
+        ``dem_core.vtk``, docs/output.md); returns the path."""
+        from .vtk import write_vtk
+        return write_vtk(self, path)
 
     def set_water(self, table):
         """Put a water table (``water.WaterTable``) on the model, or take it off (None):

@@ -166,16 +166,22 @@ def _install_stage(model, item, bundle, ids):
     return 0, "installed", {"nodes": int((element == element.max()).sum())}
 
 
-def install(model, item):
-    """Install a ``Cable`` or ``Liner`` on ``model`` in its present pose (stress-free, except
-    a cable's pretension); the time step is recomputed."""
-    item.check(groups=set(model.blocks.groups))
-    if isinstance(item, Cable):
-        model.cables = _join(model.cables, _cable_arrays(model, item))
-    elif isinstance(item, Liner):
-        model.liners = _join(model.liners, _liner_arrays(model, item))
-    else:
-        raise ValueError(f"install takes a Cable or a Liner, got {type(item).__name__}")
+def install(model, items):
+    """Install a ``Cable`` or ``Liner`` (or a list of them: one search of the blocks for all)
+    on ``model`` in its present pose (stress-free, except a cable's pretension); the time step
+    is recomputed."""
+    items = list(items) if isinstance(items, (list, tuple)) else [items]
+    for item in items:
+        if not isinstance(item, (Cable, Liner)):
+            raise ValueError(f"install takes Cables and Liners, got {type(item).__name__}")
+        item.check(groups=set(model.blocks.groups))
+    tree = None
+    for item in items:
+        if isinstance(item, Cable):
+            tree = tree or _block_tree(model)
+            model.cables = _join(model.cables, _cable_arrays(model, item, tree))
+        else:
+            model.liners = _join(model.liners, _liner_arrays(model, item))
     model._update_timestep()
 
 
@@ -215,10 +221,15 @@ def _block_polygons(model):
     return act, [shapely.Polygon(wv[off[b]:off[b + 1]]) for b in act]
 
 
-def _hosts(model, pts) -> np.ndarray:
-    """The active block containing each point (-1: none), by an R-tree of the block polygons."""
+def _block_tree(model):
+    """(active blocks, an R-tree of their polygons in the present pose)."""
     act, polys = _block_polygons(model)
-    tree = shapely.STRtree(polys)
+    return act, shapely.STRtree(polys)
+
+
+def _hosts(tree, pts) -> np.ndarray:
+    """The active block containing each point (-1: none), from ``_block_tree``."""
+    act, tree = tree
     where = tree.query(shapely.points(pts), predicate="intersects")
     host = np.full(len(pts), -1, np.int64)
     host[where[0][::-1]] = act[where[1][::-1]]          # first hit wins
@@ -233,14 +244,14 @@ def _body(model, host, xy):
     return np.column_stack([c * d[:, 0] + sn * d[:, 1], -sn * d[:, 0] + c * d[:, 1]])
 
 
-def _cable_arrays(model, cab: Cable) -> dict:
+def _cable_arrays(model, cab: Cable, tree) -> dict:
     collar, end = np.asarray(cab.collar, float), np.asarray(cab.end, float)
     length = float(np.hypot(*(end - collar)))
     h = cab.segment_length or float(np.median(model.props.radius[model.props.active > 0]))
     nseg = max(2, int(math.ceil(length / h - 1e-9)))
     t = np.linspace(0.0, 1.0, nseg + 1)
     xy = collar + t[:, None] * (end - collar)
-    host = _hosts(model, xy)
+    host = _hosts(tree, xy)
     for name, i in (("collar", 0), ("end", nseg)):
         if host[i] < 0:
             raise ValueError(f"cable: the {name} {tuple(xy[i])} is not inside any active block "

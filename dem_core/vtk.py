@@ -13,6 +13,8 @@ kind 1    contacts: one line per live contact, from the contact point x_a (the v
           halves (p0 to the midpoint, p1 to the midpoint), so a bonded flaw is drawn as the
           edge itself, in two dashes that can differ in colour.
 kind 2    cracks: one vertex (point) per bond failure, where it formed (``Model.crack_log``)
+kind 3    support: one line per cable segment and per liner element, between its nodes
+          (``dem_core.support``)
 ========  =====================================================================================
 
 Cell fields (every cell has every field: NaN for a float, -1 for an integer where it does not
@@ -27,9 +29,14 @@ apply; vectors have 3 components, z = 0, as ParaView expects):
   3 broken in shear, 4 unbonded: made by the contact search), ``material`` (row of
   ``model.table.names``).
 - cracks: ``mode`` (1 tension, 2 shear), ``time`` (s, model time of the failure), ``material``.
+- support: ``support`` (0 cable, 1 liner), ``element`` (which cable or liner), ``axial_force``
+  (N/m per metre out of plane, **tension positive**: a cable's force / its spacing, a liner's
+  N), ``moment`` (liner: the larger end moment, N m/m), ``state`` (cable segment: 0 elastic,
+  1 yielded, 2 ruptured; liner element: 0 elastic, 1 yielded).
 
 Point field ``vertex_displacement`` (m, 3 components): the rigid-body displacement of each point
-(block vertices and contact lines move with their block, crack points are 0), so ParaView's
+(block vertices and contact lines move with their block, crack points are 0, support nodes
+move from where they were installed), so ParaView's
 "Warp By Vector" with scale factor k - 1 shows the displacement magnified k times.
 
 ``legend(model)`` gives the names behind the integer codes (``VtkSeries`` writes it as JSON).
@@ -44,12 +51,12 @@ import meshio
 import numpy as np
 
 __all__ = ["write_vtk", "vtk_mesh", "VtkSeries", "legend", "block_groups", "KIND_BLOCK",
-           "KIND_CONTACT", "KIND_CRACK"]
+           "KIND_CONTACT", "KIND_CRACK", "KIND_SUPPORT"]
 
-KIND_BLOCK, KIND_CONTACT, KIND_CRACK = 0, 1, 2
+KIND_BLOCK, KIND_CONTACT, KIND_CRACK, KIND_SUPPORT = 0, 1, 2, 3
 _FLOAT = {"displacement": 3, "velocity": 3, "rotation": 1, "angular_velocity": 1, "sn": 1,
-          "ts": 1, "time": 1}
-_INT = ("kind", "block", "group", "region", "state", "material", "mode")
+          "ts": 1, "time": 1, "axial_force": 1, "moment": 1}
+_INT = ("kind", "block", "group", "region", "state", "material", "mode", "support", "element")
 
 
 def _vec3(xy) -> np.ndarray:
@@ -135,6 +142,24 @@ def _cracks(model):
     return pts, np.zeros((n, 2)), [("vertex", np.arange(n).reshape(n, 1))], [n], fields
 
 
+def _support(model):
+    """Points, line cells and fields of the cable segments and liner elements."""
+    cb, ln = model.cables, model.liners
+    pts = np.concatenate([cb.node_pos, ln.node_pos])
+    disp = pts - np.concatenate([cb.node_pos0, ln.node_pos0])
+    nc = cb.node_pos.shape[0]
+    conn = np.concatenate([np.column_stack([cb.seg_a, cb.seg_b]),
+                           np.column_stack([ln.el_a, ln.el_b]) + nc]).astype(np.int64)
+    ns, ne = cb.seg_a.size, ln.el_a.size
+    fields = {"support": np.repeat([0, 1], [ns, ne]),
+              "element": np.concatenate([cb.seg_cable, ln.el_liner]),
+              "axial_force": np.concatenate([cb.seg_force, ln.el_force[:, 0]]),
+              "moment": np.concatenate([np.full(ns, np.nan),
+                                        np.abs(ln.el_force[:, 1:]).max(axis=1, initial=0.0)]),
+              "state": np.concatenate([cb.seg_state, ln.el_state])}
+    return pts, disp, [("line", conn)], [ns + ne], fields
+
+
 def _rows(fields, kind, first, n) -> dict:
     """Every cell field for ``n`` cells of one kind from row ``first`` of that kind's
     ``fields``: NaN (floats) or -1 (integers) for a field the kind does not have."""
@@ -151,10 +176,12 @@ def _rows(fields, kind, first, n) -> dict:
 
 
 def vtk_mesh(model) -> meshio.Mesh:
-    """The model's blocks, contacts and cracks as one ``meshio.Mesh`` (module docstring)."""
+    """The model's blocks, contacts, cracks and support as one ``meshio.Mesh`` (module
+    docstring)."""
     points, disp, cells, data = [], [], [], {k: [] for k in (*_FLOAT, *_INT)}
     start = 0
-    for kind, part in ((KIND_BLOCK, _blocks), (KIND_CONTACT, _contacts), (KIND_CRACK, _cracks)):
+    for kind, part in ((KIND_BLOCK, _blocks), (KIND_CONTACT, _contacts), (KIND_CRACK, _cracks),
+                       (KIND_SUPPORT, _support)):
         pts, u, cblocks, counts, fields = part(model)
         first = 0
         for (ctype, conn), n in zip(cblocks, counts):
@@ -183,13 +210,13 @@ def write_vtk(model, path) -> Path:
 
 def legend(model) -> dict:
     """The names behind the integer fields: kinds, groups, regions, materials, states, modes."""
-    return {"kind": ["block", "contact", "crack"], "group": list(model.blocks.groups),
+    return {"kind": ["block", "contact", "crack", "support"], "support": ["cable", "liner"], "group": list(model.blocks.groups),
             "region": list(model.blocks.region_names), "material": list(model.table.names),
             "state": ["intact", "slipping", "broken in tension", "broken in shear", "unbonded"],
             "mode": {"1": "tension", "2": "shear"},
             "units": {"displacement": "m", "velocity": "m/s", "rotation": "rad (CCW +)",
                       "angular_velocity": "rad/s", "sn": "Pa (compression +)", "ts": "Pa",
-                      "time": "s"}}
+                      "time": "s", "axial_force": "N/m (tension +)", "moment": "N m/m"}}
 
 
 class VtkSeries:

@@ -82,8 +82,7 @@ def main(quick=True):
     model = build_model(sc)
     run_stages(model, sc.stages[:-1])                     # cut, drained: not yet reduced
     bolts = cables()
-    for b in bolts:
-        model.install(b)
+    model.install(bolts)
     search = FactorOfSafety(("*",), f_levels=(1.0, 1.2, 1.4, 1.6, 2.0, 2.5),
                             refine_to=0.05 if quick else 0.02, failure_displacement=0.5)
     fos = run_stages(model, [search])[0].detail

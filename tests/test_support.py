@@ -214,3 +214,21 @@ def test_a_pretensioned_bolt_with_a_plate_presses_its_block_down_by_its_force():
     mine = (c.live("block_a") == block) | (c.live("block_b") == block)
     carried = float((c.live("sn") * c.live("length"))[mine].sum())
     assert carried == pytest.approx(RHO * G * 2.0 + free[0], rel=1e-4)
+
+
+def test_cables_and_liners_are_written_for_paraview(tmp_path):
+    import meshio
+
+    from dem_core.vtk import KIND_SUPPORT
+
+    m = pulled_cable(two_blocks())
+    m.apply_load("block", fx=1e5)
+    m.cycle(300)
+    m.write_vtk(tmp_path / "m.vtu")
+    back = meshio.read(tmp_path / "m.vtu")
+    kind = np.concatenate(back.cell_data["kind"])
+    force = np.concatenate(back.cell_data["axial_force"])[kind == KIND_SUPPORT]
+    assert np.array_equal(force, m.cables.seg_force)
+    cb = m.cables
+    lines = np.concatenate([c.data for c in back.cells if c.type == "line"])[-cb.seg_a.size:]
+    assert np.allclose(back.points[lines[:, 0], :2], cb.node_pos[cb.seg_a], rtol=0, atol=1e-12)
