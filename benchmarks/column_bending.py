@@ -8,8 +8,9 @@ a time) shows how many blocks across a column the damage model needs in bending.
 
     python benchmarks/column_bending.py [--edges 0.006 0.004 0.003]
 
-Prints one JSON line per block size (edge_m, blocks, failure_g, last_stable_g, beam_theory_g,
-ratio, seconds) and writes benchmarks/results/column_bending.json and .png.
+Each block size runs with the edges as linear elements (``Model(edge_elements=True)``) and as
+independent end springs (the default). Prints one JSON line per run (edge_m, edge_elements,
+blocks, failure_g, last_stable_g, beam_theory_g, ratio, seconds) and writes benchmarks/results/column_bending.json and .png.
 """
 from __future__ import annotations
 
@@ -44,7 +45,7 @@ class _TiltedGravity:
         self.model.set_gravity(g_level, direction=self.direction)
 
 
-def run(edge: float) -> dict:
+def run(edge: float, edge_elements: bool = True) -> dict:
     t0 = time.perf_counter()
     col = Region("rock", [(0, 0), (WIDTH, 0), (WIDTH, LENGTH), (0, LENGTH)])
     base = rectangle("base", -0.01, -0.01, WIDTH + 0.01, 0.0)
@@ -52,14 +53,15 @@ def run(edge: float) -> dict:
     flaw = Material(kn=700e9, ks=600e9, tensile_strength=TENSILE, cohesion=1.6e6, friction=37)
     glue = Material(kn=700e9, ks=600e9, breakable=False)
     model = Model(bs, {"flaw:*": flaw, "boundary:*": glue}, density=DENSITY, block_E=2.6e9,
-                  block_nu=0.16, mass_scaling=True)
+                  block_nu=0.16, mass_scaling=True, edge_elements=edge_elements)
     model.fix("base")
     model.add_history_point("tip", (WIDTH / 2, LENGTH - 0.001))
     rec = raise_gravity(_TiltedGravity(model), np.arange(6.0, 80.0, 2.0), ratio=1e-5,
                         max_steps=300_000, failure_displacement=0.05, watch=("tip",))
     q1 = DENSITY * 9.81 * math.sin(math.radians(TILT)) * WIDTH
     beam_g = TENSILE / (6 * q1 * LENGTH ** 2 / 2 / WIDTH ** 2)
-    return {"edge_m": edge, "blocks": bs.n_blocks, "failure_g": rec.failure_g,
+    return {"edge_m": edge, "edge_elements": edge_elements, "blocks": bs.n_blocks,
+            "failure_g": rec.failure_g,
             "last_stable_g": rec.last_stable_g, "beam_theory_g": beam_g,
             "ratio": None if rec.failure_g is None else rec.failure_g / beam_g,
             "seconds": time.perf_counter() - t0}
@@ -71,33 +73,32 @@ def main(argv=None):
     args = parser.parse_args(argv)
     rows = []
     for edge in args.edges:
-        rows.append(run(edge))
-        print(json.dumps(rows[-1]), flush=True)
+        for mode in (True, False):
+            rows.append(run(edge, mode))
+            print(json.dumps(rows[-1]), flush=True)
     out = Path(__file__).parent / "results"
     out.mkdir(exist_ok=True)
     (out / "column_bending.json").write_text(json.dumps({"rows": rows}, indent=2))
     picture(rows, out / "column_bending.png")
 
 
-# the same column with the two contacts of an edge as independent end springs (2026-11-21)
-LUMPED = {0.006: (40.0, 42.0), 0.004: (18.0, 20.0), 0.003: (14.0, 16.0)}
-
-
 def picture(rows, path):
-    """Failure g against block size: each bracket (last stable to first failed level), beam
-    theory, and the lumped-edge results before the edge became one linear element."""
+    """Failure g against block size: each bracket (last stable to first failed level) with the
+    edges as linear elements and as independent end springs, and beam theory."""
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(6, 4.2))
-    mm = np.array([1e3 * r["edge_m"] for r in rows])
-    lo = np.array([r["last_stable_g"] for r in rows], float)
-    hi = np.array([r["failure_g"] for r in rows], float)
-    ax.errorbar(mm, 0.5 * (lo + hi), yerr=0.5 * (hi - lo), fmt="o", capsize=4,
-                label="damage model: last stable to first failed g")
-    old = [(1e3 * e, v) for e, v in sorted(LUMPED.items())]
-    ax.errorbar([m for m, _ in old], [0.5 * sum(v) for _, v in old],
-                yerr=[0.5 * (v[1] - v[0]) for _, v in old], fmt="s", color="0.6", capsize=4,
-                label="before: edge ends as independent springs")
+    for mode, style, colour, label in (
+            (True, "o", "C0", "edges as linear elements (edge_elements=True)"),
+            (False, "s", "0.6", "edge ends as independent springs (default)")):
+        sel = [r for r in rows if r.get("edge_elements", True) == mode]
+        if not sel:
+            continue
+        mm = np.array([1e3 * r["edge_m"] for r in sel])
+        lo = np.array([r["last_stable_g"] for r in sel], float)
+        hi = np.array([r["failure_g"] for r in sel], float)
+        ax.errorbar(mm, 0.5 * (lo + hi), yerr=0.5 * (hi - lo), fmt=style, color=colour,
+                    capsize=4, label=label + ": last stable to failed g")
     ax.axhline(rows[0]["beam_theory_g"], color="k", ls="--",
                label=f"Euler-Bernoulli ({rows[0]['beam_theory_g']:.1f} g)")
     ax.set_ylim(0, 50)

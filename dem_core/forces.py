@@ -13,7 +13,9 @@ at end 2: a couple (``edge_correction``). When one end is open (separated: it ca
 its spring stretched past the cut-off), the edge carries the compressed part of the same linear
 field, a triangle whose resultant moves from L/3 towards the closed corner as the edge opens
 (a rigid block tips about its corner as on an elastic foundation), the shear stress of the
-closed end spread in proportion. The edge then turns under a moment M with the rotational
+closed end spread in proportion. Once the two contacts have slid apart (their points no longer
+span the edge's length to 1 %) they are two point contacts again. ``Model(edge_elements=True)``
+turns this on (pairs in ``Contacts.partner``); off, every contact is its own spring. The edge then turns under a moment M with the rotational
 stiffness kn L^3/12 and fails (an end reaches T) at M = T L^2/6, the elastic values; lumped
 end forces alone give kn L^3/4 and T L^2/2 (three times too stiff and too strong in bending).
 """
@@ -81,6 +83,11 @@ def _force_point(k, c, s):
     return 0.5 * (xa + xb), 0.5 * (ya + yb)
 
 
+# the two halves of an edge act as one element while their points span the edge's length to
+# within 1 % (squared: 2 %); once they have slid apart they are two point contacts
+SPAN_TOLERANCE = 0.02
+
+
 @njit(cache=True)        # not inlined: the same machine arithmetic in both kernels
 def edge_correction(k, c, s, xk, yk):
     """What turns the lumped forces of contact k and its partner p (this step's stresses:
@@ -89,6 +96,10 @@ def edge_correction(k, c, s, xk, yk):
     on A about A's. The forces act at k's point (xk, yk) and at p's."""
     p = c.partner[k]
     le = c.length[k] + c.length[p]
+    xp, yp = _force_point(p, c, s)
+    span = (xk - xp) * (xk - xp) + (yk - yp) * (yk - yp)
+    if abs(span - le * le) > SPAN_TOLERANCE * le * le:
+        return 0.0, 0.0, 0.0, 0.0        # the halves slid apart: two point contacts again
     sk, sp = c.sn[k], c.sn[p]
     closed_k, closed_p = sk == c.sn_elastic[k], sp == c.sn_elastic[p]
     if closed_k and closed_p:            # linear: a couple, (L/6)(s_p - s_k) at k, minus at p
@@ -111,7 +122,6 @@ def edge_correction(k, c, s, xk, yk):
     nx, ny = contact_normal(s, a, b, c.face[k], c.normal_b[k, 0], c.normal_b[k, 1])
     fkx, fky = dk * nx - dt * ny, dk * ny + dt * nx
     fpx, fpy = dp * nx - dtp * ny, dp * ny + dtp * nx
-    xp, yp = _force_point(p, c, s)
     mb = ((xk - s.pos[b, 0]) * fky - (yk - s.pos[b, 1]) * fkx
           + (xp - s.pos[b, 0]) * fpy - (yp - s.pos[b, 1]) * fpx)
     ma = ((xk - s.pos[a, 0]) * fky - (yk - s.pos[a, 1]) * fkx

@@ -79,12 +79,17 @@ class Model:
         peak, ``step``). For quasi-static runs of slender structures (toppling columns),
         whose lowest mode local damping turns into a creep lasting many of its periods; 100
         steps suits models whose slowest period is thousands of steps.
+    edge_elements : bool
+        The two contacts of each shared edge act as one linear interface element
+        (``forces.edge_correction``): the exact elastic bending stiffness and strength of a
+        bonded edge. Off (each contact its own spring at an edge end, three times too stiff and
+        strong in bending) until the comparison cases are re-run with it (docs/mechanics.md).
     """
 
     def __init__(self, blocks: BlockSystem, materials: dict, density, block_E=None,
                  block_nu=0.25, unbreakable=None, damping=0.8, safety=0.5, mass_scaling=False,
                  dt=None, search_margin=None, new_contact_material=None, history_every=100,
-                 threads=1, kinetic_damping=0):
+                 threads=1, kinetic_damping=0, edge_elements=False):
         if not isinstance(blocks, BlockSystem):
             raise ValueError(f"blocks must be a BlockSystem, got {type(blocks).__name__}")
         if not (0.0 <= damping < 1.0):
@@ -142,7 +147,10 @@ class Model:
         self.step = 0
         self.history = monitor.History(every=int(history_every))
         self.points = {}                       # name -> (block, local point (2,), start (2,))
+        self.edge_elements = bool(edge_elements)
         self.contacts = detection.sort_for_locality(initial_contacts(blocks))
+        if not self.edge_elements:
+            self.contacts.partner[:] = -1       # every contact its own spring
         self.props.surface_material[:] = surface_materials(self.contacts, len(blocks.vertices))
         self._set_contact_stiffness(np.arange(self.contacts.n))
         self.cracks = CrackLog(np.zeros((self.contacts.n + 16, 7)), np.zeros(1, np.int64))
@@ -377,7 +385,8 @@ class Model:
               "servo_groups", "time", "step", "dt", "critical_dt", "kinetic", "history",
               "points", "search_enabled", "water", "water_faces", "cables", "liners")
     _SETTINGS = ("unbreakable", "damping", "safety", "mass_scaling", "fixed_dt",
-                 "search_margin", "new_contact_material", "threads", "kinetic_damping")
+                 "search_margin", "new_contact_material", "threads", "kinetic_damping",
+                 "edge_elements")
 
     def snapshot(self) -> dict:
         """A copy of everything that changes while the model runs; ``restore`` returns to it."""
@@ -410,6 +419,7 @@ class Model:
         m = cls.__new__(cls)
         meta = parts["meta"]
         m.blocks = parts["blocks"]
+        m.edge_elements = False                 # (files from before the option)
         for k, v in {**meta["settings"], **meta["clock"]}.items():
             setattr(m, k, v)
         m.materials = {k: Material(**v) for k, v in meta["materials"].items()}

@@ -17,7 +17,8 @@ def pair(threads=1):
     right = left + [1.0, 0.0]
     bs = from_polygons([left, right], groups={"fixed": [0], "free": [1]})
     m = Model(bs, {"*": Material(kn=KN, ks=KN, tensile_strength=T, cohesion=10 * T,
-                                 friction=40.0)}, density=2500.0, threads=threads)
+                                 friction=40.0)}, density=2500.0, threads=threads,
+              edge_elements=True)
     m.fix("fixed")
     return m
 
