@@ -115,15 +115,24 @@ class RaiseGravity:
             raise ValueError(f"stage {i} (raise_gravity): g_levels must be increasing and > 0, "
                              f"got {self.g_levels!r}")
 
-    def run(self, model):
-        from .gravity_ramp import raise_gravity
+    def run(self, model, on_level=None, resume=None):
+        """Raise gravity through ``g_levels`` (``gravity_ramp.raise_gravity``). ``on_level``:
+        optional callable(model, record) after each level; ``resume``: the RampRecord of this
+        ramp stopped after a resumable level (``LimitRecord.resumable``), ``model`` being the
+        state it left: the ramp goes on from there to the result it would have had."""
+        from .gravity_ramp import RampRecord, raise_gravity
         missing = [w for w in self.watch if w not in model.points]
         if missing:
             raise ValueError(f"raise_gravity watches unknown monitoring point(s) {missing}")
-        rec = raise_gravity(model, list(self.g_levels), ratio=self.ratio,
-                            max_steps=self.max_steps,
-                            failure_displacement=self.failure_displacement, creep=self.creep,
-                            watch=tuple(self.watch), refine_to=self.refine_to)
+        start = 0.0 if resume is None else resume.level[-1]
+        levels = [float(g) for g in self.g_levels if g > start]
+        rec = resume if resume is not None else RampRecord()
+        if levels:
+            rec = raise_gravity(model, levels, ratio=self.ratio, max_steps=self.max_steps,
+                                failure_displacement=self.failure_displacement,
+                                creep=self.creep, watch=tuple(self.watch),
+                                refine_to=self.refine_to, on_level=on_level, record=rec,
+                                start=start)
         verdict = "failed" if rec.failure_g is not None else (
             "unstable" if rec.unstable else "stood")
         return int(sum(rec.steps)), verdict, {"failure_g": rec.failure_g,
