@@ -17,6 +17,7 @@ import numba
 import numpy as np
 
 from comparisons import store
+from comparisons.progress import ramp_status, report
 from dem_core.gravity_ramp import RampRecord
 from dem_core.limit import load_resumable, remove_resumable, save_resumable
 from dem_core.plot import block_picture, draw_picture, magnification
@@ -90,7 +91,9 @@ def ramp_run(scene, params, member: dict, failure_displacement: float, creep: fl
     ``<path without .vtu>/<name>.pvd``, time = g) and ``checkpoint`` (a file stem: the model
     is saved there after each stable level of the first pass, ``limit.save_resumable``; a run
     that finds it goes on from that level with the result of a run that had not stopped, and
-    deletes it at the end); the result is a plain dict (a sweep
+    deletes it at the end). After each level the run reports its g, level, steps, elapsed
+    time and an estimate of the time left (``comparisons.progress.report``, ``ramp_status``:
+    the planned levels are known in advance); the result is a plain dict (a sweep
     member's output) with the histories of A and B, the cracks of the materials whose names
     start with one of ``rupture_materials``, ``picture`` (``dem_core.plot.block_picture`` of
     the end of the ramp: the failed state when it failed, with those cracks and the joints),
@@ -116,6 +119,9 @@ def ramp_run(scene, params, member: dict, failure_displacement: float, creep: fl
     series = _level_series(member.get("vtk"), resume)
 
     def on_level(m, r):
+        stage, left = ramp_status(r, ramp.g_levels, time.perf_counter() - t0 + earlier,
+                                  ramp.refine_to)
+        report(stage, int(np.sum(r.steps)), left, elapsed=time.perf_counter() - t0 + earlier)
         if series is not None:
             series.add(m, time=r.level[-1])
         if checkpoint:

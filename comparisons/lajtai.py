@@ -33,6 +33,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from comparisons import lab, store
+from comparisons.progress import stage_reporter
 from comparisons.results import CaseResult, Curve
 from comparisons.scenes import lajtai as scene
 from comparisons.sweep import run_sweep
@@ -136,8 +137,8 @@ def ucs_member(q: dict) -> dict:
     sc = scene.ucs_scene(p, width, height, glued_platens=glued, safety=q.get("safety", 0.5),
                          rate=q["rate"], max_strain=q["max_strain"])
     m = build_model(sc)
-    cv = lab.curve_of(run_stages(m, sc.stages)[-1], m, t0, 1.0 / height, "gauge",
-                      0.0 if glued else 1.0 / width)
+    records = run_stages(m, sc.stages, progress=stage_reporter(m, len(sc.stages)))
+    cv = lab.curve_of(records[-1], m, t0, 1.0 / height, "gauge", 0.0 if glued else 1.0 / width)
     if q.get("vtk"):
         m.write_vtk(q["vtk"])
     moduli = {}
@@ -167,7 +168,8 @@ def shear_member(q: dict) -> dict:
     sc = scene.shear_scene(p, s, safety=q.get("safety", 0.5), normal_stress=q["sn"],
                            rate=q["rate"], max_displacement=q["max_disp"])
     m = build_model(sc)
-    cv = lab.curve_of(run_stages(m, sc.stages)[-1], m, t0, 1.0, "across")
+    records = run_stages(m, sc.stages, progress=stage_reporter(m, len(sc.stages)))
+    cv = lab.curve_of(records[-1], m, t0, 1.0, "across")
     if q.get("vtk"):
         m.write_vtk(q["vtk"])
     out = {"peak": cv.peak, "disp_at_peak": cv.x_at_peak, "steps": cv.steps, "dt": cv.dt,

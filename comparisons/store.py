@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 
 __all__ = ["CaseOutput", "case_output", "current", "vtk_folder", "checkpoint", "member_key",
-           "dumps", "loads"]
+           "dumps", "loads", "check_folder"]
 
 
 @dataclass(frozen=True)
@@ -78,13 +78,32 @@ class CaseOutput:
 _CURRENT: list = []
 
 
+def check_folder(folder) -> Path:
+    """Create ``folder`` (and its parents) and check that a file can be written in it, before
+    any compute; returns it as a Path. ValueError naming the folder and why otherwise (a file
+    in its place, no permission, a read-only or full file system)."""
+    folder = Path(folder)
+    probe = folder / f".write-test-{os.getpid()}"
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        probe.write_text("")
+        probe.unlink()
+    except OSError as e:
+        why = e.strerror or type(e).__name__
+        if e.filename is not None and str(e.filename) != str(folder):
+            why += f" ({e.filename})"
+        raise ValueError(f"cannot write results to {str(folder)!r}: {why}") from None
+    return folder
+
+
 @contextmanager
 def case_output(folder, resume: bool = False, vtk: bool = False):
     """Keep the sweep members of the case run inside the block in ``folder/members`` (created
-    now, so an unwritable folder fails before any compute); load them instead of running them
-    when ``resume``; ``vtk``: members write their models to ``folder/vtk``."""
+    and checked now, so an unwritable folder fails before any compute: ``check_folder``);
+    load them instead of running them when ``resume``; ``vtk``: members write their models to
+    ``folder/vtk``."""
     out = CaseOutput(Path(folder), bool(resume), bool(vtk))
-    out.members.mkdir(parents=True, exist_ok=True)
+    check_folder(out.members)
     if not out.resume:
         for old in out.members.glob("checkpoint-*"):
             old.unlink()

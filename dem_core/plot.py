@@ -21,7 +21,7 @@ JOINT, TENSION, SHEAR = 0, 1, 2          # segment kinds of a picture (crack mod
 
 
 def plot_model(model, ax=None, displacement_scale=1.0, cracks=True, support=True,
-               crack_lines=False, joints=None, rupture=None):
+               crack_lines=False, joints=None, rupture=None, crack_materials=None):
     """Draw the active blocks (displacements magnified by ``displacement_scale``, coloured by
     the true displacement), the cracks (tension red, shear blue) and the support (cables and
     liners coloured by their axial force, broken parts dashed) on ``ax``; returns the axes.
@@ -30,12 +30,14 @@ def plot_model(model, ax=None, displacement_scale=1.0, cracks=True, support=True
     with ``crack_lines=True`` as segments along the broken bonds' edges, moving with the blocks.
     ``joints``: a material-name prefix (or tuple of them), e.g. "joint:", whose shared edges are
     drawn as thin dark lines. ``rupture``: (n, 2) polyline, m, drawn thick black.
+    ``crack_materials``: with ``crack_lines``, draw only the broken bonds of materials whose
+    names start with these prefixes (e.g. ("flaw:", "boundary:"): the intact rock's); None: all.
     """
     import matplotlib.pyplot as plt
 
     if ax is None:
         _, ax = plt.subplots(figsize=(7, 6))
-    pic = block_picture(model, cracks=None if (cracks and crack_lines) else (),
+    pic = block_picture(model, cracks=crack_materials if (cracks and crack_lines) else (),
                         joints=() if joints is None else joints)
     draw_picture(pic, ax, displacement_scale, rupture=rupture)
     s = model.state

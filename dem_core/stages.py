@@ -152,8 +152,8 @@ class Excavate:
         idx = model.group(self.group)
         left = int(model.props.active[idx].sum())
         if left == 0:
-            raise ValueError(f"excavate: group {self.group!r} has no blocks left (already "
-                             "excavated)")
+            raise ValueError(f"excavate: group {self.group!r} has no blocks left ("
+                             f"{'it is empty' if idx.size == 0 else 'already excavated'})")
         model.remove(self.group)
         return 0, "removed", {"blocks": left}
 
@@ -218,6 +218,7 @@ STAGE_KINDS = {"gravity": Gravity, "solve": Solve, "cycle": Cycle,
                "strength_schedule": StrengthSchedule, "water": WaterTable,
                "cable": Cable, "liner": Liner}
 _KIND_OF = {cls: kind for kind, cls in STAGE_KINDS.items()}
+_SEARCHES = (RaiseGravity, FactorOfSafety, StrengthSchedule)    # run(model, on_level=...)
 
 
 def stage_to_dict(stage) -> dict:
@@ -295,17 +296,24 @@ def stage_table(records, points=None) -> str:
     return "\n".join(rows)
 
 
-def run_stages(model, stages, progress=None) -> list:
+def run_stages(model, stages, progress=None, on_level=None) -> list:
     """Run ``stages`` in order on ``model``; returns one StageRecord per stage. ``progress``:
-    optional callable(str). A stage that raises stops the run; the records of the finished
-    stages are in the exception's ``records`` attribute. The stages are checked first
-    (``check_stages``) against the model's groups and materials."""
+    optional callable(str), after each stage. ``on_level``: optional callable(index, stage,
+    model, record) after each level of a search stage (``raise_gravity``, ``factor_of_safety``,
+    ``strength_schedule``; ``record`` its ``limit.LimitRecord`` so far). A stage that raises
+    stops the run; the records of the finished stages are in the exception's ``records``
+    attribute. The stages are checked first (``check_stages``) against the model's groups and
+    materials."""
     check_stages(stages, set(model.blocks.groups), model.materials)
     records = []
     for i, st in enumerate(stages):
         t0 = time.perf_counter()
         try:
-            steps, verdict, detail = st.run(model)
+            if on_level is not None and isinstance(st, _SEARCHES):
+                steps, verdict, detail = st.run(
+                    model, on_level=lambda m, rec, i=i, st=st: on_level(i, st, m, rec))
+            else:
+                steps, verdict, detail = st.run(model)
         except Exception as e:
             e.records = records
             raise
