@@ -1,20 +1,29 @@
 """What the centrifuge slope cases share: one g-ramp run of a scene as a sweep member, the
-rupture surface from its crack log, and the figures (cracks at failure, displacement vs g).
+rupture surface from its crack log, and the figures (the failed slope's blocks and cracks,
+displacement vs g, the continuum's yield).
 
 A scene module passed here provides ``scene(params, stages)`` (the ``dem_core.scene.Scene`` both
 methods build from: geometry, materials, boundaries, points "A" and "B", solver), ``profile()``
 and ``face()``; see comparisons/scenes/longtan.py. The g-ramp is the scene's one stage
-(``dem_core.stages.RaiseGravity``) run by ``dem_core.stages.run_stages``.
+(``dem_core.stages.RaiseGravity``), run with a checkpoint after each stable level so that a
+killed run goes on from its last level (``ramp_run``).
 """
 from __future__ import annotations
 
 import time
+from pathlib import Path
 
 import numba
 import numpy as np
 
+from comparisons import store
+from comparisons.progress import ramp_status, report
+from dem_core.gravity_ramp import RampRecord
+from dem_core.limit import load_resumable, remove_resumable, save_resumable
+from dem_core.plot import block_picture, draw_picture, magnification
 from dem_core.scene import build_model
-from dem_core.stages import RaiseGravity, run_stages
+from dem_core.stages import RaiseGravity, check_stages
+from dem_core.vtk import VtkSeries
 from dem_core.rupture import angle_to_joint_normal, depth_from_face, find_rupture
 
 
@@ -33,13 +42,21 @@ def tensile_label(tensile: float) -> str:
     return f"T={tensile / 1e6:g}"
 
 
+def file_name(label: str) -> str:
+    """A run's label as a file name: "T=1.1" -> "T1.1", "bedding c 5 kPa" -> "bedding_c_5_kPa"."""
+    return label.replace("=", "").replace(" ", "_")
+
+
 def ramp_members(v: dict, seed: int, **studies) -> list:
     """The sweep members of a centrifuge case's variant ``v`` (VARIANTS entry): the
     conventional run first if ``v["conventional"]`` (the longest: it does not fail early), then
     one run per flaw tensile strength in ``v["tensile"]`` (Pa; label ``tensile_label``), then one per value of each
     ``studies`` entry: label format -> (parameter name, values in the parameter's units, and
     optionally a divisor for the label), e.g. ``{"flaw friction {:g}": ("flaw_friction",
-    [25.0])}`` or ``{"bedding c {:g} kPa": ("bedding_cohesion", [5e3], 1e3)}``."""
+    [25.0])}`` or ``{"bedding c {:g} kPa": ("bedding_cohesion", [5e3], 1e3)}``. When the run
+    writes VTK files (``store.vtk_folder``), each member gets ``vtk``: its file,
+    ``<folder>/<label as file name>.vtu``; inside a case run each gets ``checkpoint``, where
+    ``ramp_run`` keeps its progress (``store.checkpoint``)."""
     base = dict(edge_length=v["edge_length"], relax_iterations=v["relax_iterations"], seed=seed)
     common = dict(g_levels=v["g_levels"], max_steps=v["max_steps"], threads=v.get("threads", 1),
                   refine_to=v.get("refine_to"))
@@ -53,6 +70,12 @@ def ramp_members(v: dict, seed: int, **studies) -> list:
         scale = divisor[0] if divisor else 1.0
         members += [dict(label=label.format(x / scale), params=dict(base, **{name: x}),
                          **common) for x in values]
+    folder = store.vtk_folder()
+    for m in members:
+        if folder is not None:
+            m["vtk"] = str(folder / f"{file_name(m['label'])}.vtu")
+        if store.current() is not None:
+            m["checkpoint"] = store.checkpoint(m)
     return members
 
 
@@ -62,10 +85,19 @@ def ramp_run(scene, params, member: dict, failure_displacement: float, creep: fl
 
     ``member`` holds ``label``, ``params`` (the plain dict of ``params``), ``g_levels``,
     ``max_steps`` and optionally ``threads``, ``damping`` and ``kinetic_damping`` (the solver,
-    default ``DAMPING`` and ``KINETIC_DAMPING``) and ``refine_to`` (g: bisect the failure bracket
-    to this width, ``raise_gravity``); the result is a plain dict (a sweep member's
-    output) with the histories of A and B, the cracks of the materials whose names start with
-    one of ``rupture_materials``, ``unstable`` (None, or the message of a numerical blow-up
+    default ``DAMPING`` and ``KINETIC_DAMPING``), ``refine_to`` (g: bisect the failure bracket
+    to this width, ``raise_gravity``), ``vtk`` (a .vtu path: the model's state at the end of
+    the ramp is written there, ``Model.write_vtk``, and each level's state to a series
+    ``<path without .vtu>/<name>.pvd``, time = g) and ``checkpoint`` (a file stem: the model
+    is saved there after each stable level of the first pass, ``limit.save_resumable``; a run
+    that finds it goes on from that level with the result of a run that had not stopped, and
+    deletes it at the end). After each level the run reports its g, level, steps, elapsed
+    time and an estimate of the time left (``comparisons.progress.report``, ``ramp_status``:
+    the planned levels are known in advance); the result is a plain dict (a sweep
+    member's output) with the histories of A and B, the cracks of the materials whose names
+    start with one of ``rupture_materials``, ``picture`` (``dem_core.plot.block_picture`` of
+    the end of the ramp: the failed state when it failed, with those cracks and the joints),
+    ``unstable`` (None, or the message of a numerical blow-up
     of a slope that was not failing: ``raise_gravity`` stops there), ``blowups`` ([g, message]
     of levels that blew up after the slope had started to fail: counted as failed) and
     ``runtime_s``. The rupture is added by ``rupture``.
@@ -75,14 +107,33 @@ def ramp_run(scene, params, member: dict, failure_displacement: float, creep: fl
                         failure_displacement=failure_displacement, creep=creep,
                         watch=("A", "B"), refine_to=member.get("refine_to"))
     sc = scene.scene(params, stages=[ramp])
-    threads = min(member.get("threads", 1), numba.config.NUMBA_NUM_THREADS)
-    model = build_model(sc, threads=threads, damping=member.get("damping", DAMPING),
-                        kinetic_damping=member.get("kinetic_damping", KINETIC_DAMPING))
+    checkpoint = member.get("checkpoint")
+    saved = load_resumable(checkpoint, RampRecord) if checkpoint else None
+    if saved is None:
+        threads = min(member.get("threads", 1), numba.config.NUMBA_NUM_THREADS)
+        model = build_model(sc, threads=threads, damping=member.get("damping", DAMPING),
+                            kinetic_damping=member.get("kinetic_damping", KINETIC_DAMPING))
+        check_stages(sc.stages, set(model.blocks.groups), model.materials)
+    model, resume = saved if saved is not None else (model, None)
+    earlier = 0.0 if resume is None else resume.seconds
+    series = _level_series(member.get("vtk"), resume)
+
+    def on_level(m, r):
+        stage, left = ramp_status(r, ramp.g_levels, time.perf_counter() - t0 + earlier,
+                                  ramp.refine_to)
+        report(stage, int(np.sum(r.steps)), left, elapsed=time.perf_counter() - t0 + earlier)
+        if series is not None:
+            series.add(m, time=r.level[-1])
+        if checkpoint:
+            save_resumable(checkpoint, m, r)
+
+    rec = ramp.run(model, on_level=on_level, resume=resume)[2]["ramp"]
+    if member.get("vtk"):
+        model.write_vtk(member["vtk"])
     blocks = model.blocks
-    rec = run_stages(model, sc.stages)[0].detail["ramp"]
     log = model.crack_log()
     keep = np.array([m.startswith(tuple(rupture_materials)) for m in log["material"]], bool)
-    return {
+    out = {
         "label": member["label"], "params": member["params"], "blocks": blocks.n_blocks,
         "contacts": int(model.contacts.n), "g": rec.g, "verdict": rec.verdict,
         "steps": int(np.sum(rec.steps)), "failure_g": rec.failure_g,
@@ -93,8 +144,22 @@ def ramp_run(scene, params, member: dict, failure_displacement: float, creep: fl
         "crack_mode": log["mode"][keep].tolist(),
         "crack_material": [str(m) for m in np.asarray(log["material"])[keep]],
         "unstable": rec.unstable, "blowups": rec.blowups,
-        "runtime_s": time.perf_counter() - t0,
+        "picture": block_picture(model, cracks=rupture_materials, joints="joint:"),
+        "runtime_s": time.perf_counter() - t0 + earlier,
     }
+    if checkpoint:
+        remove_resumable(checkpoint)
+    return out
+
+
+def _level_series(vtk, resume):
+    """The VtkSeries of a ramp's levels next to its final-state file ``vtk`` (None: none);
+    a resumed ramp goes on with the levels it had written up to its last stable one."""
+    if not vtk:
+        return None
+    folder = Path(vtk).with_suffix("")
+    until = float("-inf") if resume is None else resume.level[-1]
+    return VtkSeries.reopen(folder, folder.name, until)
 
 
 def unstable_notes(runs: list) -> list:
@@ -163,11 +228,37 @@ def displacement_figure(runs: list, continuum: dict | None = None):
 
 
 def cracks_figure(scene, run: dict, rupture_line=None, title: str = "", reference_line=None):
-    """The section with the run's cracks (tension red, shear blue), its rupture surface and
-    points A and B; ``reference_line`` (n, 2) m is drawn dashed (e.g. a thesis's rupture)."""
+    """The failed slope: the run's blocks at the end of its ramp (displacement magnified, the
+    factor in the title, coloured by the true displacement in mm), the joints, the cracks
+    (tension red, shear blue, along the broken bonds), its rupture surface and points A and B;
+    ``reference_line`` (n, 2) m is drawn dashed (e.g. a thesis's rupture). A run without a
+    ``picture`` (``ramp_run``) is drawn as its cracks' points on the section."""
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(7, 5))
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    pic = run.get("picture")
+    if pic is not None:
+        k = magnification(pic)
+        draw_picture(pic, ax, k, rupture=rupture_line, unit="mm")
+        title += (f"\nblocks at the end of the ramp, displacement magnified x {k:g} "
+                  f"(colour: true displacement)")
+    else:
+        _crack_points(ax, scene, run, rupture_line)
+    if reference_line is not None:
+        line = np.asarray(reference_line)
+        ax.plot(line[:, 0], line[:, 1], "k--", lw=1.5, label="reference rupture (approx.)")
+    for name, (x, y) in scene.monitoring_points().items():
+        ax.plot(x, y, "k^")
+        ax.annotate(name, (x, y), xytext=(4, 4), textcoords="offset points")
+    ax.set_aspect("equal")
+    ax.set_title(title, fontsize=9)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=7, loc="lower left")
+    return fig
+
+
+def _crack_points(ax, scene, run, rupture_line):
+    """The section's outline with the run's cracks as points and the rupture polyline."""
     ring = scene.profile()
     ax.fill(*np.array(ring + [ring[0]]).T, color="0.9")
     xy = np.asarray(run["crack_xy"], float).reshape(-1, 2)
@@ -179,17 +270,6 @@ def cracks_figure(scene, run: dict, rupture_line=None, title: str = "", referenc
     if rupture_line is not None:
         line = np.asarray(rupture_line)
         ax.plot(line[:, 0], line[:, 1], "k-", lw=2, label="rupture surface")
-    if reference_line is not None:
-        line = np.asarray(reference_line)
-        ax.plot(line[:, 0], line[:, 1], "k--", lw=1.5, label="reference rupture (approx.)")
-    for name, (x, y) in scene.monitoring_points().items():
-        ax.plot(x, y, "k^")
-        ax.annotate(name, (x, y))
-    ax.set_aspect("equal")
-    ax.set_title(title, fontsize=9)
-    if ax.get_legend_handles_labels()[0]:
-        ax.legend(fontsize=7, loc="lower left")
-    return fig
 
 
 def continuum_critical_g(sc, mesh, material, g_max: float, result, runaway: float,
@@ -218,8 +298,14 @@ def continuum_critical_g(sc, mesh, material, g_max: float, result, runaway: floa
                             if kind == "g"]) for name in ("A", "B")}
     fig, ax = plt.subplots(figsize=(6, 5))
     plot_yield(model, ax=ax)
-    ax.set_title(f"continuum yield indicator at {limit.value:.0f} g")
+    when = (f"no failure up to {limit.value:.0f} g" if limit.first_failed is None else
+            f"fails at {limit.first_failed:.0f} g; shown at {limit.value:.0f} g")
+    ax.set_title(f"continuum ({label.split(',')[0]}): {when}\n{ax.get_title()}", fontsize=9)
     result.figures["continuum_yield"] = fig
+    if store.vtk_folder() is not None:
+        from continuum_ref.vtk import write_xdmf
+
+        write_xdmf(model, store.vtk_folder() / "continuum.xdmf", time=float(limit.value))
     g = hist["A"][:, 0] if len(hist["A"]) else np.zeros(0)
     return {
         "failure_g": limit.first_failed, "last_stable_g": limit.value,

@@ -1,17 +1,24 @@
-"""Command line: ``python -m comparisons list | run CASE [--quick|--full] [--out DIR] | demo``."""
+"""Command line: ``python -m comparisons list | run CASE [--quick|--full] [--out DIR] [--resume]
+[--vtk] | run-scene FILE [--out DIR] [--vtk] | demo``.
+
+Bad input (an unknown case, a scene file that does not load, an --out that cannot be written)
+ends in one line on stderr and exit status 2, before any compute."""
 from __future__ import annotations
 
 import argparse
+import sys
 import time
 from pathlib import Path
 
-from comparisons import registry
+from comparisons import registry, store
 from comparisons.progress import Progress
 from comparisons.results import write_results
 
+PROG = "python -m comparisons"
+
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m comparisons", description=__doc__)
+    parser = argparse.ArgumentParser(prog=PROG, description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True)
     sub.add_parser("list", help="list the cases")
     run = sub.add_parser("run", help="run one case")
@@ -22,6 +29,19 @@ def main(argv=None) -> int:
     run.add_argument("--out", default="results", help="results root (default: results/)")
     run.add_argument("--seed", type=int, default=1)
     run.add_argument("--quiet", action="store_true")
+    run.add_argument("--resume", action="store_true",
+                     help="load the sweep members an earlier, interrupted run of this case "
+                          "kept in OUT/CASE/members/ instead of running them again")
+    run.add_argument("--vtk", action="store_true",
+                     help="write each DEM model's final state for ParaView to OUT/CASE/vtk/")
+    scene = sub.add_parser("run-scene", help="run a scene file (DEM): its stages, a summary, "
+                                             "the stage table and a picture of the blocks")
+    scene.add_argument("file", help="a scene file (JSON, docs/scenes.md)")
+    scene.add_argument("--out", default="results",
+                       help="results root (default: results/); writes OUT/<scene name>/")
+    scene.add_argument("--vtk", action="store_true",
+                       help="write the final state for ParaView to OUT/<scene name>/")
+    scene.add_argument("--quiet", action="store_true")
     demo = sub.add_parser("demo", help="the README's main job: the quick showcase case")
     demo.add_argument("--out", default="results")
     args = parser.parse_args(argv)
@@ -31,16 +51,35 @@ def main(argv=None) -> int:
             module = registry.case_module(name)
             print(f"{name:12s} {module.DESCRIPTION}")
         return 0
+    if args.command == "run-scene":
+        return run_scene_file(args.file, Path(args.out), args.vtk, args.quiet)
     if args.command == "demo":
         return run_case(registry.DEMO_CASE, "quick", Path(args.out), seed=1, quiet=False)
-    return run_case(args.case, args.variant or "quick", Path(args.out), args.seed, args.quiet)
+    return run_case(args.case, args.variant or "quick", Path(args.out), args.seed, args.quiet,
+                    resume=args.resume, vtk=args.vtk)
 
 
-def run_case(name: str, variant: str, out: Path, seed: int, quiet: bool) -> int:
-    module = registry.case_module(name)
+def fail(message: str) -> int:
+    """Bad input: one line on stderr, exit status 2 (argparse's)."""
+    print(f"{PROG}: error: {message}", file=sys.stderr)
+    return 2
+
+
+def run_case(name: str, variant: str, out: Path, seed: int, quiet: bool, resume: bool = False,
+             vtk: bool = False) -> int:
+    """Run case ``name`` and write its results to ``out/name``; its sweep members are kept in
+    ``out/name/members`` (``resume``: load the kept ones), VTK files go to ``out/name/vtk``
+    (``vtk``; ``comparisons.store``). An unknown case or an unwritable ``out`` is refused
+    before any compute (``fail``)."""
+    try:
+        module = registry.case_module(name)
+        store.check_folder(Path(out) / name)
+    except ValueError as e:
+        return fail(str(e))
     progress = Progress(name, quiet=quiet)
     t0 = time.perf_counter()
-    result = module.run(variant=variant, seed=seed, progress=progress)
+    with store.case_output(Path(out) / name, resume=resume, vtk=vtk):
+        result = module.run(variant=variant, seed=seed, progress=progress)
     folder = write_results(result, out)
     print(f"{name} ({variant}) finished in {time.perf_counter() - t0:.1f} s")
     for metric, e in result.errors.items():
@@ -48,4 +87,31 @@ def run_case(name: str, variant: str, out: Path, seed: int, quiet: bool) -> int:
             rel = "" if e.get("rel_error") is None else f" ({100 * e['rel_error']:.1f} %)"
             print(f"  {metric}: ours {e['ours']:.4g}, reference {e['reference']}{rel}")
     print(f"results written to {folder.resolve()}/ (report: {(folder / 'report.md').resolve()})")
+    return 0
+
+
+def run_scene_file(path, out: Path, vtk: bool = False, quiet: bool = False) -> int:
+    """``run-scene``: run a scene file's stages on the DEM model and write its results to
+    ``out/<scene name>`` (``comparisons.run_scene``). A file that does not load as a scene or
+    an unwritable ``out`` is refused before any compute; a stage that raises ends with status
+    1 after the outputs of the stages before it are written."""
+    from comparisons.run_scene import prepare, run_prepared
+
+    try:
+        scene, folder = prepare(path, out)
+    except ValueError as e:
+        return fail(str(e))
+    progress = Progress(scene.name, quiet=quiet)
+    t0 = time.perf_counter()
+    records, error = run_prepared(scene, folder, path, vtk=vtk, progress=progress)
+    n = len(records)
+    print(f"{Path(path).name}: {n} stage{'s' if n != 1 else ''} run, "
+          f"{time.perf_counter() - t0:.1f} s with the outputs")
+    for r in records:
+        print(f"  stage {r.index} {r.kind}: {r.verdict}, {r.steps} steps")
+    print(f"results written to {folder.resolve()}/ (report: {(folder / 'report.md').resolve()})")
+    if error is not None:
+        print(f"{PROG}: stage {len(records)} stopped the run: {type(error).__name__}: {error}",
+              file=sys.stderr)
+        return 1
     return 0

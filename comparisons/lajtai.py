@@ -32,11 +32,13 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from comparisons import lab
+from comparisons import lab, store
+from comparisons.progress import stage_reporter
 from comparisons.results import CaseResult, Curve
 from comparisons.scenes import lajtai as scene
 from comparisons.sweep import run_sweep
 from comparisons.variants import pick_variant
+from dem_core.plot import block_picture, draw_picture, magnification
 from dem_core.scene import build_model
 from dem_core.stages import run_stages
 
@@ -123,7 +125,9 @@ def mc_cohesion_from_ucs(ucs, friction):
 
 # ---------------------------------------------------------------------------- members
 def ucs_member(q: dict) -> dict:
-    """One compression (``q["test"] == "ucs"``) or tension test; plain data in and out."""
+    """One compression (``q["test"] == "ucs"``) or tension test; plain data in and out. The
+    result's ``picture`` is the specimen at the end of the test (``block_picture``); with
+    ``q["vtk"]`` (a .vtu path) the model's final state is written there too."""
     p = scene.FlawParams(edge_length=q["edge"], tensile=q["tensile"], cohesion=q["cohesion"],
                          friction=q["friction"], kn=q["kn"], ks=q["ks"], seed=q["seed"])
     width = q.get("width", scene.UCS_WIDTH)
@@ -133,8 +137,10 @@ def ucs_member(q: dict) -> dict:
     sc = scene.ucs_scene(p, width, height, glued_platens=glued, safety=q.get("safety", 0.5),
                          rate=q["rate"], max_strain=q["max_strain"])
     m = build_model(sc)
-    cv = lab.curve_of(run_stages(m, sc.stages)[-1], m, t0, 1.0 / height, "gauge",
-                      0.0 if glued else 1.0 / width)
+    records = run_stages(m, sc.stages, progress=stage_reporter(m, len(sc.stages)))
+    cv = lab.curve_of(records[-1], m, t0, 1.0 / height, "gauge", 0.0 if glued else 1.0 / width)
+    if q.get("vtk"):
+        m.write_vtk(q["vtk"])
     moduli = {}
     if not glued:
         try:
@@ -146,11 +152,15 @@ def ucs_member(q: dict) -> dict:
             "softened": bool(cv.y[-1] < 0.9 * cv.peak), "steps": cv.steps, "dt": cv.dt,
             "n_blocks": cv.n_blocks, "cracks": cv.cracks, "curve": np.column_stack(
                 [cv.x, cv.y, cv.lateral]), "ipeak": ipk,
+            "picture": block_picture(m, cracks=None, joints=()),
             "runtime_s": time.perf_counter() - t0, "params": q}
 
 
 def shear_member(q: dict) -> dict:
-    """One direct-shear test at constant normal stress; plain data in and out."""
+    """One direct-shear test at constant normal stress; plain data in and out. With
+    ``q["picture"]`` the result's ``picture`` is the specimen at the end of the test
+    (``block_picture``, joints drawn); with ``q["vtk"]`` (a .vtu path) the model's final
+    state is written there."""
     p = scene.FlawParams(edge_length=q["edge"], tensile=q["tensile"], cohesion=q["cohesion"],
                          friction=q["friction"], kn=q["kn"], ks=q["ks"], seed=q["seed"])
     s = scene.ShearParams(joints=q["joints"], k=q["k"], joint_friction=q["joint_friction"])
@@ -158,29 +168,25 @@ def shear_member(q: dict) -> dict:
     sc = scene.shear_scene(p, s, safety=q.get("safety", 0.5), normal_stress=q["sn"],
                            rate=q["rate"], max_displacement=q["max_disp"])
     m = build_model(sc)
-    cv = lab.curve_of(run_stages(m, sc.stages)[-1], m, t0, 1.0, "across")
-    ipk = int(np.argmax(cv.y))
+    records = run_stages(m, sc.stages, progress=stage_reporter(m, len(sc.stages)))
+    cv = lab.curve_of(records[-1], m, t0, 1.0, "across")
+    if q.get("vtk"):
+        m.write_vtk(q["vtk"])
     out = {"peak": cv.peak, "disp_at_peak": cv.x_at_peak, "steps": cv.steps, "dt": cv.dt,
            "n_blocks": cv.n_blocks, "cracks": cv.cracks,
            "normal_measured": float(np.mean(cv.lateral[1:])) if len(cv.lateral) > 1 else 0.0,
            "curve": np.column_stack([cv.x, cv.y, cv.lateral]),
            "runtime_s": time.perf_counter() - t0, "params": q}
     if q.get("picture"):
-        log = m.crack_log()
-        at_peak = log["time"] <= cv.time[ipk] + 1e-12
-        out["picture"] = {"blocks": _block_outlines(m), "cracks": np.column_stack(
-            [log["x"][at_peak], log["y"][at_peak], log["mode"][at_peak]])}
+        out["picture"] = block_picture(m, cracks=None, joints="joint:")
     return out
 
 
-def _block_outlines(m):
-    from dem_core.detection import world_vertices
-
-    p, s = m.props, m.state
-    rot = np.column_stack([np.cos(s.theta), np.sin(s.theta)])
-    wv = world_vertices(s.pos, rot, p.vertex_offsets, p.local_vertices)
-    return [wv[p.vertex_offsets[b]:p.vertex_offsets[b + 1]].copy()
-            for b in np.flatnonzero(p.active > 0)]
+def _vtk(q: dict, name: str) -> dict:
+    """``q`` with ``vtk``: ``<vtk folder>/<name>.vtu`` when the run writes VTK files
+    (``store.vtk_folder``), else ``q`` as it is."""
+    folder = store.vtk_folder()
+    return q if folder is None else {**q, "vtk": str(folder / f"{name}.vtu")}
 
 
 def _flaw_params(cfg, **over):
@@ -203,12 +209,19 @@ def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
 
     # 1. virtual lab ------------------------------------------------------------------
     t0 = time.perf_counter()
-    ucs_q = lambda c, **o: {**_flaw_params(cfg, cohesion=c), "test": "ucs",  # noqa: E731
-                            "rate": cfg["ucs_rate"], "max_strain": cfg["ucs_max_strain"], **o}
+
+    def ucs_q(c, **over):
+        name = f"ucs_c{c / MPA:.6g}" + "".join(f"_{k}{v:g}" for k, v in over.items())
+        return _vtk({**_flaw_params(cfg, cohesion=c), "test": "ucs", "rate": cfg["ucs_rate"],
+                     "max_strain": cfg["ucs_max_strain"], **over}, name)
+
+    def one(q):                    # one run, through run_sweep: kept, and loaded on resume
+        return run_sweep(ucs_member, [q])[0]
+
     ucs_runs = {}
 
     def ucs_of(c):
-        r = ucs_member(ucs_q(c))
+        r = one(ucs_q(c))
         ucs_runs[c] = r
         return r["peak"]
 
@@ -229,9 +242,9 @@ def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
     ucs_vs_c = np.array(sorted((c / MPA, r["peak"] / MPA) for c, r in ucs_runs.items()))
     say(f"UCS {best['peak'] / MPA:.3g} MPa at c = {c_cal / MPA:.3g} MPa "
         f"(converged {cal['converged']})")
-    rate = lab.rate_check(lambda rt: _as_curve(ucs_member(ucs_q(c_cal, rate=rt))),
-                          cfg["ucs_rate"])
-    tension = ucs_member({**ucs_q(c_use), "test": "tension", "max_strain": 0.01})
+    rate = lab.rate_check(lambda rt: _as_curve(one(ucs_q(c_cal, rate=rt))), cfg["ucs_rate"])
+    tension = one(_vtk({**ucs_q(c_use), "test": "tension", "max_strain": 0.01},
+                       f"tension_c{c_use / MPA:g}"))
     dem.update({
         "ucs_mpa": best["peak"] / MPA, "calibrated_cohesion_mpa": c_cal / MPA,
         "calibration_converged": cal["converged"],
@@ -270,7 +283,7 @@ def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
                  "k": 0.0, "joint_friction": scene.THESIS_FRICTION, "sn": sn,
                  "rate": cfg["shear_rate"], "max_disp": cfg["shear_max_disp"], **over}
             q["picture"] = sn in pic
-            members.append(q)
+            members.append(_vtk(q, f"{study}_sn{sn / MPA:g}"))
             keys.append((study, sn))
 
     sns, lsns = cfg["normal_stresses"], cfg["lajtai_normal_stresses"]
@@ -483,7 +496,7 @@ def _figures(res, dem, runs, best, ucs_vs_c, cfg):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(1, 2, figsize=(10, 4))
+    fig, ax = plt.subplots(1, 3, figsize=(14, 4.2), gridspec_kw={"width_ratios": [3, 3, 2]})
     cur = best["curve"]
     ax[0].plot(cur[:, 0] * 100, cur[:, 1] / MPA, label="axial")
     ax[0].plot(cur[:, 2] * 100, cur[:, 1] / MPA, label="lateral")
@@ -499,6 +512,9 @@ def _figures(res, dem, runs, best, ucs_vs_c, cfg):
     ax[1].set_ylabel("UCS (MPa)")
     ax[1].set_title("UCS against flaw cohesion (fig. 3.9)")
     ax[1].legend()
+    _specimen(ax[2], best, f"UCS specimen, end of test\n(axial strain {100 * cur[-1, 0]:.2f} "
+                           f"%)")
+    fig.tight_layout()
     res.figures["ucs"] = fig
 
     groups = [("lajtai", "Lajtai specimens, k = 0.5 (figs 3.11-3.12)"),
@@ -545,29 +561,25 @@ def _figures(res, dem, runs, best, ucs_vs_c, cfg):
         ax.legend(fontsize=7)
         res.figures["persistence_normalised"] = fig
 
-    pics = [(st, sn, r) for st, rr in runs.items() for sn, r in rr if "picture" in r]
+    pics, seen = [], set()
+    for st, rr in runs.items():                   # an aliased study's runs are drawn once
+        pics += [(st, sn, r) for sn, r in rr if "picture" in r and id(r) not in seen]
+        seen |= {id(r) for _, r in rr}
     if pics:
-        from matplotlib.collections import PolyCollection
         n = len(pics)
         cols = min(n, 3)
         rows = int(math.ceil(n / cols))
-        fig, axes = plt.subplots(rows, cols, figsize=(5 * cols, 3 * rows), squeeze=False)
+        fig, axes = plt.subplots(rows, cols, figsize=(5.5 * cols, 3.4 * rows), squeeze=False)
         for ax, (st, sn, r) in zip(axes.flat, pics):
-            ax.add_collection(PolyCollection(r["picture"]["blocks"], facecolors="0.92",
-                                             edgecolors="0.6", linewidths=0.3))
-            cr = r["picture"]["cracks"]
-            for mode, col in ((1, "red"), (2, "blue")):
-                k = cr[:, 2] == mode if len(cr) else np.zeros(0, bool)
-                ax.plot(cr[k, 0], cr[k, 1], ".", ms=3, c=col)
-            ax.set_aspect("equal")
-            ax.autoscale_view()
-            ax.set_title(f"{st}, sn {sn / MPA:g} MPa: cracks at peak\n(red tension, blue shear)",
-                         fontsize=8)
-            ax.set_xticks([])
-            ax.set_yticks([])
+            _specimen(ax, r, f"{st}, sn {sn / MPA:g} MPa: end of test at shear displacement "
+                             f"{1e3 * r['curve'][-1, 0]:.2f} mm\n(peak at "
+                             f"{1e3 * r['disp_at_peak']:.2f} mm)")
         for ax in list(axes.flat)[n:]:
             ax.axis("off")
-        res.figures["cracks_at_peak"] = fig
+        fig.suptitle("direct-shear specimens after the peak: blocks coloured by displacement, "
+                     "joints black, cracks red tension / blue shear", fontsize=9)
+        fig.tight_layout()
+        res.figures["shear_specimens"] = fig
 
     if "accuracy" in dem:
         rows = dem["accuracy"]["rows"]
@@ -593,3 +605,15 @@ def _figures(res, dem, runs, best, ucs_vs_c, cfg):
             np.array([[r["edge_m"], r["safety"], r["ucs_mpa"], r["ucs_runtime_s"],
                        r["ucs_rel_error"], r["shear_mpa"], r["shear_runtime_s"],
                        r["shear_rel_error"]] for r in rows]))
+
+
+def _specimen(ax, run, title):
+    """A specimen at the end of its test (``run["picture"]``), displacement magnified (stated
+    in the title), coloured by displacement (mm), joints and cracks drawn."""
+    k = magnification(run["picture"])
+    draw_picture(run["picture"], ax, k, unit="mm")
+    ax.set_title(f"{title}, displacement magnified x {k:g}", fontsize=8)
+    ax.set_xticks([])
+    ax.set_yticks([])
+    ax.set_xlabel("")
+    ax.set_ylabel("")

@@ -6,12 +6,30 @@
 
 Each member is a pure function of its parameters (seeds included), so the results are the same
 whichever way they ran, and they come back in the order of ``params``.
+
+Inside ``store.case_output`` (every ``comparisons run``), each member's result is written to the
+case's ``members/`` folder as soon as it finishes, and with ``resume`` a member kept there is
+loaded, not run (``comparisons.store``). A member that raises does not stop the others then:
+they finish and are kept, and the first error is raised at the end.
+
+Progress: given a ``comparisons.progress.Progress``, each member reports where it is (its
+level or stage, steps, elapsed time, an estimate of what is left; ``progress.report``) and the
+Progress shows one updating line per running member on a terminal, plain lines otherwise. The
+reports travel by the way the member runs: in this process directly, from a local pool through
+a multiprocessing queue drained by a thread here, under MPI as plain lines on the workers'
+stderr (mpirun forwards them; the workers may be on other nodes).
 """
 from __future__ import annotations
 
+import multiprocessing
 import os
-from concurrent.futures import ProcessPoolExecutor
+import threading
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from contextlib import contextmanager
 from typing import Callable, Sequence
+
+from comparisons import progress as _progress
+from comparisons import store
 
 
 def launched_under_mpi() -> bool:
@@ -23,32 +41,118 @@ def launched_under_mpi() -> bool:
 
 
 def run_sweep(function: Callable, params: Sequence, workers: int = 1, progress=None) -> list:
-    """``[function(p) for p in params]``, spread over MPI workers or local processes.
+    """``[function(p) for p in params]``, spread over MPI workers or local processes, with the
+    members kept by (and, resuming, loaded from) the ``store.case_output`` in force.
 
     ``function`` must be importable at module level (it is pickled to the workers).
+    ``progress``: a callable(str) for the sweep's own lines; a ``comparisons.progress.Progress``
+    also shows each member's reports (module docstring).
     """
     params = list(params)
+    keep = store.current()
+    say = progress or (lambda message: None)
+    board = progress if isinstance(progress, _progress.Progress) and not progress.quiet else None
+    if board is not None:
+        board.new_sweep()
+    n = len(params)
+    results, todo, errors = [None] * n, [], []
+    for i, p in enumerate(params):
+        found, value = keep.load(function, p) if keep is not None else (False, None)
+        if found:
+            results[i] = value
+            say(f"sweep member {i + 1}/{n} kept from an earlier run (not run again)")
+        else:
+            todo.append(i)
+
+    def done(i, how, result=None, error=None):
+        if board is not None:
+            board.finish(i)
+        if error is not None:
+            if keep is None:
+                raise error
+            errors.append(error)
+            say(f"sweep member {i + 1}/{n} failed ({how}): {error!r}")
+            return
+        results[i] = keep.save(function, params[i], result) if keep is not None else result
+        say(f"sweep member {i + 1}/{n} done ({how})")
+
+    who = [(i, n, _label(p), getattr(board, "label", "")) for i, p in enumerate(params)]
+    _execute(function, params, todo, workers, done, who, board)
+    if errors:
+        raise errors[0]
+    return results
+
+
+def _label(p) -> str:
+    """A member's label in progress lines: its parameters' "label", if any."""
+    return str(p["label"]) if isinstance(p, dict) and "label" in p else ""
+
+
+def _execute(function, params, todo, workers, done, who, board):
+    """Run ``function(params[i])`` for each ``i`` in ``todo``, calling ``done(i, how, result,
+    error)`` as each finishes; member ``i`` is ``who[i]`` (index, n, label, case) and its
+    reports go to ``board`` (a Progress, or None: dropped)."""
+    if not todo:
+        return
     if launched_under_mpi():
         from mpi4py.futures import MPIPoolExecutor
 
         with MPIPoolExecutor() as pool:
-            return _collect(pool, function, params, progress, "MPI")
-    if workers > 1 and len(params) > 1:
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            return _collect(pool, function, params, progress, f"{workers} processes")
-    results = []
-    for i, p in enumerate(params):
-        results.append(function(p))
-        if progress:
-            progress(f"sweep member {i + 1}/{len(params)} done (serial)")
-    return results
+            return _pooled(pool, function, params, todo, done, "MPI", who,
+                           "lines" if board is not None else None)
+    if workers > 1 and len(todo) > 1:
+        with _reports_from_pool(board) as queue:
+            with ProcessPoolExecutor(max_workers=workers, initializer=_progress.worker_init,
+                                     initargs=(queue,)) as pool:
+                return _pooled(pool, function, params, todo, done, f"{workers} processes",
+                               who, "queue" if queue is not None else None)
+    for i in todo:
+        try:
+            with _progress.as_member(*who[i], None if board is None else board.member):
+                result = function(params[i])
+        except Exception as error:
+            done(i, "serial", error=error)
+            continue
+        done(i, "serial", result)
 
 
-def _collect(pool, function, params, progress, how):
-    futures = [pool.submit(function, p) for p in params]
-    results = []
-    for i, future in enumerate(futures):
-        results.append(future.result())
-        if progress:
-            progress(f"sweep member {i + 1}/{len(params)} done ({how})")
-    return results
+def _pooled(pool, function, params, todo, done, how, who, send):
+    futures = {pool.submit(_run_member, function, params[i], who[i], send): i for i in todo}
+    for future in as_completed(futures):
+        error = future.exception()
+        done(futures[future], how, None if error else future.result(), error)
+
+
+def _run_member(function, param, who, send):
+    """In a worker: ``function(param)`` as member ``who`` (index, n, label, case), its reports
+    sent by ``send``: "queue" (a local pool's queue), "lines" (stderr, MPI) or None."""
+    sender = (_progress.queue_sender() if send == "queue" else
+              _progress.line_sender(who[3]) if send == "lines" else None)
+    with _progress.as_member(*who, sender):
+        return function(param)
+
+
+@contextmanager
+def _reports_from_pool(board):
+    """A multiprocessing queue for a local pool's reports and a thread that shows them on
+    ``board`` until the block ends (None and no thread without a board)."""
+    if board is None:
+        yield None
+        return
+    queue = multiprocessing.Queue()
+    thread = threading.Thread(target=_show_reports, args=(queue, board), daemon=True)
+    thread.start()
+    try:
+        yield queue
+    finally:
+        queue.put(None)                 # after the pool has shut down: its reports are in
+        thread.join(timeout=10)
+        queue.close()
+
+
+def _show_reports(queue, board):
+    while True:
+        status = queue.get()
+        if status is None:
+            return
+        board.member(status)

@@ -50,7 +50,8 @@ class RampRecord(LimitRecord):
 
 def raise_gravity(model, g_levels, ratio=1e-4, max_steps=20_000, failure_displacement=None,
                   progress=None, stop_at_failure=True, ramp_steps=400, creep=None,
-                  watch=None, refine_to=None) -> RampRecord:
+                  watch=None, refine_to=None, on_level=None, record=None,
+                  start=0.0) -> RampRecord:
     """Solve the model at each g-level in turn (module docstring); return the record.
 
     Parameters
@@ -78,15 +79,20 @@ def raise_gravity(model, g_levels, ratio=1e-4, max_steps=20_000, failure_displac
         of ``refine_to`` until a level fails (or the last of ``g_levels`` stands). The failure g
         is then that of a ramp in ``refine_to`` steps (module docstring). Needs
         ``stop_at_failure``.
+    on_level : callable(model, record), optional, called after each level
+        (``limit.search_failure``).
+    record, start : to resume a ramp (``limit``, "Resuming"): its RampRecord and its last g;
+        ``g_levels`` are then the levels after that. Default: a new record, from 0 g.
     """
     check_levels(g_levels, "g_levels")
     if any(b <= a for a, b in zip(g_levels, list(g_levels)[1:])):
         raise ValueError("g_levels must increase")
     return search_failure(model, g_levels, lambda m, a, b: _ramp(m, a, b, ramp_steps),
-                          RampRecord(), ratio=ratio, max_steps=max_steps,
-                          failure_displacement=failure_displacement, progress=progress,
-                          stop_at_failure=stop_at_failure, creep=creep, watch=watch,
-                          refine_to=refine_to, start=0.0)
+                          RampRecord() if record is None else record, ratio=ratio,
+                          max_steps=max_steps, failure_displacement=failure_displacement,
+                          progress=progress, stop_at_failure=stop_at_failure, creep=creep,
+                          watch=watch, refine_to=refine_to, start=float(start),
+                          on_level=on_level)
 
 
 def _ramp(model, g_from, g_to, steps, increments=10):

@@ -8,6 +8,8 @@ and reads parts (it does not import the model).
 from __future__ import annotations
 
 import json
+import pickle
+import zipfile
 
 import numpy as np
 
@@ -53,7 +55,20 @@ def save_parts(path, blocks, bundles: dict, contacts: Contacts, arrays: dict, me
 
 def load_parts(path) -> dict:
     """The parts written by ``save_parts``: blocks, bundles, contacts, arrays, meta, servo,
-    points, history."""
+    points, history. A file that is not one (truncated, another kind of file, an .npz of
+    something else) raises ValueError naming it; a missing file, FileNotFoundError."""
+    try:
+        return _parts(path)
+    except (OSError, EOFError, ValueError, KeyError, TypeError, AttributeError,
+            zipfile.BadZipFile, pickle.UnpicklingError) as e:
+        if isinstance(e, FileNotFoundError) or str(e).startswith(f"{path}: a model file"):
+            raise
+        raise ValueError(f"{path}: not a model file (an .npz written by Model.save, holding "
+                         f"the blocks, state and contacts) or a truncated one: "
+                         f"{type(e).__name__}: {e}") from None
+
+
+def _parts(path) -> dict:
     with np.load(path) as z:
         d = {k: z[k] for k in z.files}
     meta = json.loads(bytes(d["meta"]).decode())

@@ -24,18 +24,28 @@ overshoot grows with the step, and the answer is that of a search in ``refine_to
 
 ``apply(model, level_from, level_to)`` moves the parameter (``gravity_ramp`` ramps g over a
 few hundred steps; ``strength`` changes the strength table at once, which moves no stress).
+
+Resuming: after a level with ``LimitRecord.resumable()`` true (every level so far stood, none
+bisected), the model and the record are all the search depends on. Save both then (an
+``on_level`` callback: ``Model.save`` and the record's fields); a search started from the loaded
+model with ``record`` = the loaded record, ``start`` = its last level and the levels after it
+gives the result of the search that was not stopped (``Model.load`` is exact).
 """
 from __future__ import annotations
 
+import json
+import os
 import time
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
 
 import numpy as np
 
-from .model import ModelUnstable
+from .model import Model, ModelUnstable
 from .monitor import SolveResult, verdict
 
-__all__ = ["LimitRecord", "search_failure", "check_levels"]
+__all__ = ["LimitRecord", "search_failure", "check_levels", "save_resumable", "load_resumable",
+           "remove_resumable"]
 
 
 @dataclass
@@ -71,6 +81,13 @@ class LimitRecord:
     unstable: str | None = None
     blowups: list = field(default_factory=list)
 
+    def resumable(self) -> bool:
+        """True when a search can go on from the model as it is now with this record (module
+        docstring): some level was run, all stood, none was bisected."""
+        return (bool(self.level) and self.refined == 0 and self.unstable is None
+                and not self.blowups and all(v not in ("failed", "unstable")
+                                             for v in self.verdict))
+
 
 def check_levels(levels, name="levels", positive=True) -> np.ndarray:
     """``levels`` as a float array; ValueError unless finite, (> 0 when ``positive``) and
@@ -87,7 +104,7 @@ def check_levels(levels, name="levels", positive=True) -> np.ndarray:
 
 def search_failure(model, levels, apply, record=None, ratio=1e-4, max_steps=20_000,
                    failure_displacement=None, progress=None, stop_at_failure=True, creep=None,
-                   watch=None, refine_to=None, start=None) -> LimitRecord:
+                   watch=None, refine_to=None, start=None, on_level=None) -> LimitRecord:
     """Move the load parameter through ``levels`` and judge each (module docstring).
 
     Parameters
@@ -105,6 +122,9 @@ def search_failure(model, levels, apply, record=None, ratio=1e-4, max_steps=20_0
     watch : history-point names, optional: judge by their motion instead of any block's.
     refine_to : bracket width (in the parameter's units), optional; needs stop_at_failure.
     start : the parameter's value before the first level (what ``apply`` moves from).
+    on_level : callable(model, record), optional: called after each level is judged and
+        recorded, before the search books it as its last stable or failed level (e.g. to save
+        a resumable state, module docstring, or to write VTK files).
     """
     levels = check_levels(levels, "levels", positive=False)
     if refine_to is not None:
@@ -124,6 +144,8 @@ def search_failure(model, levels, apply, record=None, ratio=1e-4, max_steps=20_0
         failed = _judge(model, rec, to, ratio, max_steps, failure_displacement, creep, watch,
                         progress)
         _record(rec, model, to, failed[1], failed[0], progress)
+        if on_level is not None:
+            on_level(model, rec)
         return failed[0]
 
     try:
@@ -149,7 +171,7 @@ def search_failure(model, levels, apply, record=None, ratio=1e-4, max_steps=20_0
                 _march(rec, model, level, refine_to, low, float(levels[-1]))
     except ModelUnstable as error:
         _record_unstable(rec, model, running[0], model.step - running[1], str(error), progress)
-    rec.seconds = time.perf_counter() - t0
+    rec.seconds += time.perf_counter() - t0         # a resumed search adds its part
     return rec
 
 
@@ -296,3 +318,44 @@ def _solve_watching(model, names, ratio, max_steps, failure_displacement, creep,
                                f"{failure_displacement} m")
     v, why = verdict(steps, disp, creep)
     return SolveResult(v, done, r, max(disp), why)
+
+
+def save_resumable(path, model, rec) -> bool:
+    """Save a search that can go on from here (``rec.resumable()``): the model to
+    ``<path>.npz`` (``Model.save``) and the record to ``<path>.json``, each written whole
+    before it replaces the last; returns whether it saved. Use as an ``on_level`` callback:
+    ``on_level=lambda m, r: save_resumable(path, m, r)``."""
+    if not rec.resumable():
+        return False
+    state = asdict(rec)
+    state["last_stable_level"] = rec.level[-1]      # as the search books it next
+    stem = Path(path)
+    part = stem.with_name(stem.name + ".part.npz")
+    model.save(part)
+    os.replace(part, stem.with_name(stem.name + ".npz"))
+    text = json.dumps({"record": state, "step": int(model.step)},
+                      default=lambda v: v.item())         # numpy scalars
+    stem.with_name(stem.name + ".part.json").write_text(text)
+    os.replace(stem.with_name(stem.name + ".part.json"), stem.with_name(stem.name + ".json"))
+    return True
+
+
+def load_resumable(path, record_type=LimitRecord):
+    """(model, record) saved by ``save_resumable`` at ``path``, or None when there is none (or
+    the two files are not of the same level: the run was killed between them)."""
+    stem = Path(path)
+    npz, js = stem.with_name(stem.name + ".npz"), stem.with_name(stem.name + ".json")
+    if not (npz.exists() and js.exists()):
+        return None
+    saved = json.loads(js.read_text())
+    model = Model.load(npz)
+    if int(model.step) != saved["step"]:
+        return None
+    return model, record_type(**saved["record"])
+
+
+def remove_resumable(path) -> None:
+    """Delete the files of ``save_resumable`` at ``path`` (the search has finished)."""
+    stem = Path(path)
+    for suffix in (".npz", ".json", ".part.npz", ".part.json"):
+        stem.with_name(stem.name + suffix).unlink(missing_ok=True)

@@ -343,9 +343,14 @@ class Model:
         c.sn[rows], c.sn_elastic[rows], c.ts[rows] = sn, sn, ts
 
     def remove(self, group):
-        """Excavate: remove a group's blocks and every contact they have."""
+        """Excavate: remove a group's blocks and every contact they have. ValueError naming
+        the group when none of its blocks is left (removed already, or an empty group)."""
         idx = self.group(group)
         p = self.props
+        if not np.any(p.active[idx] > 0):
+            name = repr(group) if isinstance(group, str) else f"of blocks {idx.tolist()}"
+            raise ValueError(f"remove: group {name} has no blocks left to remove ("
+                             f"{'it is empty' if idx.size == 0 else 'all removed already'})")
         p.active[idx] = 0
         p.fixity[idx] = FIX_X | FIX_Y | FIX_ROT
         p.velocity_bc[idx] = 0.0
@@ -537,7 +542,12 @@ class Model:
         return steps
 
     def cycle(self, n: int):
-        """Advance ``n`` steps (histories recorded every ``history.every`` steps)."""
+        """Advance ``n`` steps (histories recorded every ``history.every`` steps); ``n`` a
+        whole number >= 0 (ValueError naming it otherwise: negative, fractional, NaN)."""
+        whole = (isinstance(n, (int, np.integer)) and not isinstance(n, bool)) or (
+            isinstance(n, (float, np.floating)) and math.isfinite(n) and float(n).is_integer())
+        if not whole or n < 0:
+            raise ValueError(f"cycle: the number of steps must be a whole number >= 0, got {n!r}")
         if self.dt is None:
             raise ValueError("no contacts to set the time step: pass dt= to Model")
         n = int(n)

@@ -7,6 +7,7 @@ the collinear overlaps of antiparallel edges of different blocks.
 from __future__ import annotations
 
 import numpy as np
+import shapely
 
 from .blocks import BlockSystem
 
@@ -46,9 +47,56 @@ def _shared_edges(polys, tol):
     return out
 
 
+def _checked_polygon(i, p) -> np.ndarray:
+    """Polygon ``i`` as an (k, 2) float array; ValueError naming it unless it has >= 3 finite
+    vertices, a non-zero area and no edges that cross (shapely's validity)."""
+    try:
+        p = np.asarray(p, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"polygon {i} is not a list of (x, y) points: {p!r}") from None
+    if p.ndim != 2 or p.shape[1] != 2 or len(p) < 3 or not np.all(np.isfinite(p)):
+        raise ValueError(f"polygon {i} needs at least 3 finite (x, y) vertices, got "
+                         f"{p.tolist()}")
+    poly = shapely.Polygon(p)
+    if not poly.is_valid:
+        raise ValueError(f"polygon {i} is not a simple polygon ({shapely.is_valid_reason(poly)}"
+                         f"): {p.tolist()}")
+    if not poly.area > 0:
+        raise ValueError(f"polygon {i} has no area: {p.tolist()}")
+    return p
+
+
+PENETRATION = 0.01       # overlaps thinner than this x the smaller block's size are contacts
+
+
+def _check_no_overlap(polys) -> None:
+    """ValueError naming the first two polygons that overlap: the overlap's thickness (2 x
+    area / perimeter) exceeds ``PENETRATION`` x the smaller polygon's size (square root of its
+    area). Sharing an edge or a corner is fine, and so is a block pressed slightly into another
+    (an initial contact penetration, as the contact tests set up)."""
+    shapes = shapely.polygons([shapely.linearrings(p) for p in polys])
+    if len(shapes) < 2:
+        return
+    a, b = shapely.STRtree(shapes).query(shapes, predicate="intersects")
+    keep = a < b
+    a, b = a[keep], b[keep]
+    lens = shapely.intersection(shapes[a], shapes[b])
+    area, perimeter = shapely.area(lens), shapely.length(lens)
+    thick = np.where(perimeter > 0, 2.0 * area / np.maximum(perimeter, 1e-300), 0.0)
+    size = np.sqrt(np.minimum(shapely.area(shapes[a]), shapely.area(shapes[b])))
+    bad = np.flatnonzero(thick > PENETRATION * size)
+    if bad.size:
+        k = bad[np.lexsort((b[bad], a[bad]))[0]]
+        raise ValueError(f"polygons {a[k]} and {b[k]} overlap (area {area[k]:.3g} m^2, "
+                         f"{thick[k]:.3g} m thick): {polys[a[k]].tolist()} and "
+                         f"{polys[b[k]].tolist()}")
+
+
 def from_polygons(polygons, edge_material="flaw:rock", groups=None, region_name="rock",
                   tol=1e-9) -> BlockSystem:
-    """A BlockSystem from convex polygons (any orientation; stored CCW).
+    """A BlockSystem from convex polygons (any orientation; stored CCW). ValueError naming
+    the polygon(s) for a polygon with fewer than 3 vertices, no area, non-finite or crossing
+    edges, and for two polygons that overlap (more than a contact penetration: ``PENETRATION``).
 
     Parameters
     ----------
@@ -61,12 +109,13 @@ def from_polygons(polygons, edge_material="flaw:rock", groups=None, region_name=
         Collinearity / overlap tolerance, m.
     """
     polys = []
-    for p in polygons:
-        p = np.asarray(p, dtype=np.float64)
+    for i, p in enumerate(polygons):
+        p = _checked_polygon(i, p)
         area, _ = _polygon_area_centroid(p)
         if area < 0:
             p = p[::-1].copy()
         polys.append(p)
+    _check_no_overlap(polys)
     nb = len(polys)
     ac = [_polygon_area_centroid(p) for p in polys]
     shared = _shared_edges(polys, tol)

@@ -115,15 +115,24 @@ class RaiseGravity:
             raise ValueError(f"stage {i} (raise_gravity): g_levels must be increasing and > 0, "
                              f"got {self.g_levels!r}")
 
-    def run(self, model):
-        from .gravity_ramp import raise_gravity
+    def run(self, model, on_level=None, resume=None):
+        """Raise gravity through ``g_levels`` (``gravity_ramp.raise_gravity``). ``on_level``:
+        optional callable(model, record) after each level; ``resume``: the RampRecord of this
+        ramp stopped after a resumable level (``LimitRecord.resumable``), ``model`` being the
+        state it left: the ramp goes on from there to the result it would have had."""
+        from .gravity_ramp import RampRecord, raise_gravity
         missing = [w for w in self.watch if w not in model.points]
         if missing:
             raise ValueError(f"raise_gravity watches unknown monitoring point(s) {missing}")
-        rec = raise_gravity(model, list(self.g_levels), ratio=self.ratio,
-                            max_steps=self.max_steps,
-                            failure_displacement=self.failure_displacement, creep=self.creep,
-                            watch=tuple(self.watch), refine_to=self.refine_to)
+        start = 0.0 if resume is None else resume.level[-1]
+        levels = [float(g) for g in self.g_levels if g > start]
+        rec = resume if resume is not None else RampRecord()
+        if levels:
+            rec = raise_gravity(model, levels, ratio=self.ratio, max_steps=self.max_steps,
+                                failure_displacement=self.failure_displacement,
+                                creep=self.creep, watch=tuple(self.watch),
+                                refine_to=self.refine_to, on_level=on_level, record=rec,
+                                start=start)
         verdict = "failed" if rec.failure_g is not None else (
             "unstable" if rec.unstable else "stood")
         return int(sum(rec.steps)), verdict, {"failure_g": rec.failure_g,
@@ -143,8 +152,8 @@ class Excavate:
         idx = model.group(self.group)
         left = int(model.props.active[idx].sum())
         if left == 0:
-            raise ValueError(f"excavate: group {self.group!r} has no blocks left (already "
-                             "excavated)")
+            raise ValueError(f"excavate: group {self.group!r} has no blocks left ("
+                             f"{'it is empty' if idx.size == 0 else 'already excavated'})")
         model.remove(self.group)
         return 0, "removed", {"blocks": left}
 
@@ -209,6 +218,7 @@ STAGE_KINDS = {"gravity": Gravity, "solve": Solve, "cycle": Cycle,
                "strength_schedule": StrengthSchedule, "water": WaterTable,
                "cable": Cable, "liner": Liner}
 _KIND_OF = {cls: kind for kind, cls in STAGE_KINDS.items()}
+_SEARCHES = (RaiseGravity, FactorOfSafety, StrengthSchedule)    # run(model, on_level=...)
 
 
 def stage_to_dict(stage) -> dict:
@@ -286,17 +296,24 @@ def stage_table(records, points=None) -> str:
     return "\n".join(rows)
 
 
-def run_stages(model, stages, progress=None) -> list:
+def run_stages(model, stages, progress=None, on_level=None) -> list:
     """Run ``stages`` in order on ``model``; returns one StageRecord per stage. ``progress``:
-    optional callable(str). A stage that raises stops the run; the records of the finished
-    stages are in the exception's ``records`` attribute. The stages are checked first
-    (``check_stages``) against the model's groups and materials."""
+    optional callable(str), after each stage. ``on_level``: optional callable(index, stage,
+    model, record) after each level of a search stage (``raise_gravity``, ``factor_of_safety``,
+    ``strength_schedule``; ``record`` its ``limit.LimitRecord`` so far). A stage that raises
+    stops the run; the records of the finished stages are in the exception's ``records``
+    attribute. The stages are checked first (``check_stages``) against the model's groups and
+    materials."""
     check_stages(stages, set(model.blocks.groups), model.materials)
     records = []
     for i, st in enumerate(stages):
         t0 = time.perf_counter()
         try:
-            steps, verdict, detail = st.run(model)
+            if on_level is not None and isinstance(st, _SEARCHES):
+                steps, verdict, detail = st.run(
+                    model, on_level=lambda m, rec, i=i, st=st: on_level(i, st, m, rec))
+            else:
+                steps, verdict, detail = st.run(model)
         except Exception as e:
             e.records = records
             raise

@@ -102,7 +102,8 @@ class FactorOfSafety:
         _check_search(where, self.ratio, self.max_steps, self.refine_to,
                       self.failure_displacement)
 
-    def run(self, model):
+    def run(self, model, on_level=None):
+        """Run the search; ``on_level``: optional callable(model, record) after each level."""
         base = {n: model.materials[n] for n in self.materials}
 
         def apply(m, f_from, f):
@@ -111,7 +112,8 @@ class FactorOfSafety:
         rec = search_failure(model, self.f_levels, apply, LimitRecord("F"), ratio=self.ratio,
                              max_steps=self.max_steps,
                              failure_displacement=self.failure_displacement, creep=self.creep,
-                             watch=tuple(self.watch), refine_to=self.refine_to)
+                             watch=tuple(self.watch), refine_to=self.refine_to,
+                             on_level=on_level)
         return _detail(rec, "factor_of_safety", "first_failed", "F")
 
 
@@ -145,12 +147,14 @@ class StrengthSchedule:
         _check_search(where, self.ratio, self.max_steps, self.refine_to,
                       self.failure_displacement)
 
-    def run(self, model):
+    def run(self, model, on_level=None):
+        """Run the search; ``on_level``: optional callable(model, record) after each level."""
         now = getattr(model.materials[self.material], self.property)
         rec = search_failure(model, self.values,
                              lambda m, a, b: m.set_material(self.material, **{self.property: b}),
                              LimitRecord(self.property), ratio=self.ratio,
                              max_steps=self.max_steps,
                              failure_displacement=self.failure_displacement, creep=self.creep,
-                             watch=tuple(self.watch), refine_to=self.refine_to, start=now)
+                             watch=tuple(self.watch), refine_to=self.refine_to, start=now,
+                             on_level=on_level)
         return _detail(rec, "last_stable_value", "failure_value", "values")

@@ -226,6 +226,7 @@ class VtkSeries:
     that stops early still leaves a readable series), with ``time`` = the model time (s) unless
     another value is given (e.g. the g-level of a centrifuge ramp, so ParaView's time axis is
     the load). Open the .pvd in ParaView; ``<name>_legend.json`` names the integer codes.
+    ``VtkSeries.reopen`` goes on with a series an interrupted run left.
     """
 
     def __init__(self, folder, name: str = "model"):
@@ -233,6 +234,22 @@ class VtkSeries:
         self.name = str(name)
         self.entries = []           # (time, file name)
         self.folder.mkdir(parents=True, exist_ok=True)
+
+    @classmethod
+    def reopen(cls, folder, name: str = "model", until: float = float("inf")) -> "VtkSeries":
+        """The series in ``folder`` named ``name`` with its members up to the first whose time
+        exceeds ``until`` (a resumed run goes on from there: the next ``add`` follows them);
+        an empty series if there is none."""
+        import xml.etree.ElementTree as ET
+
+        series = cls(folder, name)
+        if series.pvd.exists():
+            for item in ET.parse(series.pvd).getroot().iter("DataSet"):
+                t = float(item.get("timestep"))
+                if t > until:
+                    break
+                series.entries.append((t, item.get("file")))
+        return series
 
     @property
     def pvd(self) -> Path:

@@ -1,0 +1,246 @@
+"""Run a scene file from the command line: ``python -m comparisons run-scene FILE [--out DIR]
+[--vtk]``, so a slope can be modelled without writing Python.
+
+The scene (``dem_core.scene.Scene.load``: checked before any compute) is built as a DEM model
+(``build_model``) and its stages run (``dem_core.stages.run_stages``); ``<out>/<scene name>/``
+then holds, like a case's folder:
+
+- ``summary.json``: the scene's name, file and description, blocks and contacts, ``stages``
+  (one object per stage: index, kind, verdict, steps, model time (s), each monitoring point's
+  displacement ``[ux, uy]`` (m), the crack counts, wall seconds, and the stage's own numbers:
+  a g-ramp's failure_g and last_stable_g, a factor of safety's factor_of_safety and
+  first_failed, a strength schedule's last_stable_value and failure_value, a load's peak;
+  a search's whole record under ``search``), ``results`` (those numbers of the last stage
+  giving each), ``runtime_s``, ``error`` (None, or the message of the stage that raised; the
+  stages before it are kept) and ``versions``;
+- ``stages.csv`` (the stage table: kind, verdict, steps, times, crack counts, each point's ux
+  and uy in m) and, for a stage with a curve (``load``), ``stage<i>_<kind>.csv``;
+- ``blocks.png``: the final state (``dem_core.plot.plot_model``: blocks moved by their
+  displacement times the magnification in the title, coloured by the true displacement, joints,
+  the cracks through intact rock (flaws, region boundaries) as the broken edges by mode,
+  support; the monitoring points);
+- ``report.md``: the results, the stage table (``stage_table``, mm), the picture;
+- ``<scene name>.vtu`` with ``--vtk``: the final state for ParaView (``Model.write_vtk``).
+
+DEM only for now: a scene file holds contact materials (joints, flaws), not the rock-mass
+material and mesh size the continuum needs (``continuum_ref.from_scene`` builds the continuum
+side from Python, e.g. examples/field_slope.py).
+"""
+from __future__ import annotations
+
+import csv
+import dataclasses
+import json
+import re
+import time
+from pathlib import Path
+
+import numpy as np
+
+from comparisons.results import _jsonable, software_versions
+from comparisons.store import check_folder
+
+__all__ = ["prepare", "run_scene", "run_prepared", "scene_folder", "RESULT_KEYS"]
+
+# the numbers a stage gives that a reader looks for first (copied to summary["results"])
+RESULT_KEYS = ("failure_g", "last_stable_g", "factor_of_safety", "first_failed",
+               "last_stable_value", "failure_value", "peak", "displacement_at_peak")
+_SEARCH_KEYS = ("ramp", "search")           # a stage's LimitRecord in its detail
+INTACT = ("flaw:", "boundary:")             # bonds through intact rock (not joints)
+
+
+def scene_folder(scene, out) -> Path:
+    """``<out>/<scene name>`` (characters other than letters, digits, ".", "-", "_" as "_")."""
+    return Path(out) / (re.sub(r"[^\w.\-]", "_", scene.name) or "scene")
+
+
+def prepare(path, out="results"):
+    """The checks before any compute: (scene, folder) of the scene file ``path`` and its
+    results folder ``scene_folder(scene, out)``, created and writable. ValueError naming the
+    file and what is wrong with it (missing, not JSON, not a valid scene: the item), or the
+    folder that cannot be written."""
+    from dem_core.scene import Scene
+
+    try:
+        scene = Scene.load(path)
+    except OSError as e:
+        raise ValueError(f"scene file {str(path)!r}: {e.strerror or e}") from None
+    except json.JSONDecodeError as e:
+        raise ValueError(f"scene file {str(path)!r} is not valid JSON: {e}") from None
+    except (ValueError, TypeError, KeyError) as e:
+        raise ValueError(f"scene file {str(path)!r}: {e}") from None
+    return scene, check_folder(scene_folder(scene, out))
+
+
+def run_scene(path, out="results", vtk: bool = False, progress=None):
+    """Load the scene file ``path`` (``prepare``), run its stages on the DEM model and write
+    the outputs (module docstring) to ``scene_folder``. Returns (folder, records, error): the
+    ``StageRecord``s of the stages that ran and None, or the exception a stage raised (the
+    outputs of the stages before it are still written)."""
+    scene, folder = prepare(path, out)
+    return (folder,) + run_prepared(scene, folder, path, vtk, progress)
+
+
+def run_prepared(scene, folder, path, vtk=False, progress=None):
+    """``run_scene`` after ``prepare``: (records, error)."""
+    from dem_core.scene import build_model
+    from dem_core.stages import run_stages
+
+    say = progress or (lambda message: None)
+    t0 = time.perf_counter()
+    model = build_model(scene)
+    say(f"{scene.name}: {model.n_blocks} blocks, {int(model.contacts.n)} contacts, "
+        f"{len(scene.stages)} stages")
+    stage_start = [time.perf_counter()]
+
+    def stage_done(message):
+        stage_start[0] = time.perf_counter()
+        say(message)
+
+    def level_done(i, stage, m, rec):
+        say(level_line(i, stage, rec, time.perf_counter() - stage_start[0]))
+
+    error = None
+    try:
+        records = run_stages(model, scene.stages, progress=stage_done, on_level=level_done)
+    except Exception as e:          # kept in the outputs with the stages before it
+        records, error = getattr(e, "records", []), e
+    write_outputs(folder, scene, path, model, records, error, time.perf_counter() - t0, vtk)
+    return records, error
+
+
+def level_line(i, stage, rec, elapsed) -> str:
+    """A progress line after a level of search stage ``i``: the parameter, the level among the
+    planned ones, its verdict, the stage's steps and elapsed time, an estimate of what is left
+    (``comparisons.progress.ramp_status``)."""
+    from comparisons.progress import duration, ramp_status
+
+    plan = next(getattr(stage, k) for k in ("g_levels", "f_levels", "values")
+                if hasattr(stage, k))
+    text, left = ramp_status(rec, [float(v) for v in plan], elapsed, stage.refine_to)
+    return (f"stage {i} {text}: {rec.verdict[-1]}, {int(sum(rec.steps))} steps, elapsed "
+            f"{duration(elapsed)}, " + ("left unknown" if left is None else
+                                        f"left ~{duration(left)}"))
+
+
+def write_outputs(folder: Path, scene, path, model, records, error, runtime_s, vtk) -> None:
+    """summary.json, stages.csv, the curves, blocks.png, report.md (and the .vtu)."""
+    stages = [_stage_summary(r) for r in records]
+    curves = {}
+    for r in records:
+        name = _write_curve(folder, r)
+        if name:
+            curves[r.index] = name
+            stages[r.index]["curve"] = name
+    results = {k: s[k] for s in stages for k in RESULT_KEYS if s.get(k) is not None}
+    summary = {"scene": scene.name, "file": str(Path(path).resolve()),
+               "description": scene.description, "method": "dem",
+               "blocks": int(model.n_blocks), "contacts": int(model.contacts.n),
+               "stages": stages, "results": results, "runtime_s": runtime_s,
+               "error": None if error is None else f"{type(error).__name__}: {error}",
+               "versions": software_versions(), "written": time.strftime("%Y-%m-%d %H:%M:%S")}
+    (folder / "summary.json").write_text(json.dumps(_jsonable(summary), indent=2))
+    _write_stage_csv(folder / "stages.csv", records, list(model.points))
+    fig = block_figure(scene, model, records)
+    fig.savefig(folder / "blocks.png", dpi=110, bbox_inches="tight")
+    import matplotlib.pyplot as plt
+    plt.close(fig)
+    if vtk:
+        model.write_vtk(folder / f"{folder.name}.vtu")
+    (folder / "report.md").write_text(_report(summary, records, curves, vtk, folder.name))
+
+
+def _stage_summary(r) -> dict:
+    """A StageRecord as plain data: its fields, its detail's numbers and lists (arrays go to
+    CSV), a search's record as ``search``."""
+    out = {"index": r.index, "kind": r.kind, "verdict": r.verdict, "steps": r.steps,
+           "time": r.time, "points": {k: list(v) for k, v in r.points.items()},
+           "cracks": dict(r.cracks), "seconds": r.seconds}
+    for key, value in r.detail.items():
+        if key in _SEARCH_KEYS and dataclasses.is_dataclass(value):
+            out["search"] = dataclasses.asdict(value)
+        elif not isinstance(value, np.ndarray):
+            out[key] = value
+    return out
+
+
+def _write_curve(folder, r) -> str | None:
+    """A stage's equal-length 1-D arrays (a load's time, displacement, reaction, ...) as
+    ``stage<i>_<kind>.csv``; its name, or None when it has none."""
+    cols = {k: v for k, v in r.detail.items() if isinstance(v, np.ndarray) and v.ndim == 1}
+    if not cols or len({v.size for v in cols.values()}) != 1:
+        return None
+    name = f"stage{r.index}_{r.kind}.csv"
+    np.savetxt(folder / name, np.column_stack(list(cols.values())), delimiter=",",
+               header=",".join(cols), comments="", fmt="%.8g")
+    return name
+
+
+def _write_stage_csv(path, records, points) -> None:
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["stage", "kind", "verdict", "steps", "time_s", "seconds", "tension_cracks",
+                    "shear_cracks"] + [f"{p}_{c}_m" for p in points for c in ("ux", "uy")])
+        for r in records:
+            w.writerow([r.index, r.kind, r.verdict, r.steps, f"{r.time:.8g}",
+                        f"{r.seconds:.3f}", r.cracks["tension"], r.cracks["shear"]]
+                       + [f"{r.points[p][i]:.8g}" for p in points for i in (0, 1)])
+
+
+def block_figure(scene, model, records):
+    """The final state: blocks moved by their displacement x the magnification in the title,
+    coloured by the true displacement (m), joints, the cracks through intact rock (``INTACT``
+    materials: flaws and region boundaries; a joint's breaks would hide the picture) as broken
+    edges (red tension, blue shear), support (``dem_core.plot.plot_model``), the monitoring
+    points (moved the same way)."""
+    import matplotlib.pyplot as plt
+
+    from dem_core.plot import block_picture, magnification, plot_model
+
+    fig, ax = plt.subplots(figsize=(8, 6))
+    k = magnification(block_picture(model, cracks=(), joints=()))
+    plot_model(model, ax, displacement_scale=k, crack_lines=True, joints="joint:",
+               crack_materials=INTACT)
+    for name in model.points:                       # where they are, as drawn
+        x0, y0 = model.points[name][2]
+        ux, uy = model.point_motion(name)[:2]
+        ax.plot(x0 + k * ux, y0 + k * uy, "k^")
+        ax.annotate(name, (x0 + k * ux, y0 + k * uy), xytext=(4, 4), textcoords="offset points")
+    last = (f"after stage {records[-1].index} ({records[-1].kind}: {records[-1].verdict})"
+            if records else "before any stage")
+    log = model.crack_log()
+    intact = np.array([str(m).startswith(INTACT) for m in log["material"]], bool)
+    tension, shear = (int(np.sum(intact & (log["mode"] == mode))) for mode in (1, 2))
+    ax.set_title(f"{scene.name}: {last}\ndisplacement magnified x {k:g} (colour: true "
+                 f"displacement)\ncracks through intact rock: {tension} tension (red), {shear} "
+                 f"shear (blue); joints black ({int(np.sum(~intact))} joint breaks not drawn)",
+                 fontsize=9)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=7, loc="lower left")
+    return fig
+
+
+def _report(summary, records, curves, vtk, name) -> str:
+    from dem_core.stages import stage_table
+
+    lines = [f"# {summary['scene']} (scene file, DEM)", "", f"File: `{summary['file']}`"]
+    if summary["description"]:
+        lines += ["", summary["description"]]
+    lines += ["", f"{summary['blocks']} blocks, {summary['contacts']} contacts; "
+              f"{len(records)} stages in {summary['runtime_s']:.1f} s."]
+    if summary["error"]:
+        lines += ["", f"**The run stopped with an error:** {summary['error']}"]
+    if summary["results"]:
+        lines += ["", "## Results", "", "| quantity | value |", "|---|---|"]
+        lines += [f"| {k} | {v:.6g} |" for k, v in summary["results"].items()]
+    lines += ["", "## Stages", "", "Monitoring points' displacement at the end of each stage "
+              "(`stages.csv` has them in m, with times and crack counts):", ""]
+    lines += [stage_table(records)] if records else ["(no stage ran)"]
+    lines += ["", "## Final state", "", "![blocks](blocks.png)"]
+    if curves or vtk:
+        lines += ["", "## Data", ""]
+        lines += [f"- `{c}`: stage {i}'s curve" for i, c in curves.items()]
+        if vtk:
+            lines += [f"- `{name}.vtu`: the final state for ParaView (docs/output.md)"]
+    lines += ["", "## Software", ""] + [f"- {k}: {v}" for k, v in summary["versions"].items()]
+    return "\n".join(lines) + "\n"

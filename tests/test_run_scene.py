@@ -1,0 +1,107 @@
+"""``python -m comparisons run-scene FILE``: a scene file run from the command line writes what
+a case writes (summary, stage table, a picture of the blocks, the model for ParaView), and its
+numbers are those of ``run_stages`` on the same scene."""
+import csv
+import json
+import math
+import re
+
+import meshio
+import pytest
+
+from comparisons import cli
+from dem_core.geometry import GeometrySpec
+from dem_core.geometry.regions import rectangle
+from dem_core.materials import Material
+from dem_core.scene import Boundary, Scene, build_model
+from dem_core.stages import Excavate, FactorOfSafety, Gravity, Solve, run_stages, stage_table
+
+TILT, PHI = 20.0, 30.0
+
+
+def tilted_block(stages=None, groups=None):
+    """A block on a base with gravity tilted TILT degrees, friction PHI: F = tan(PHI)/tan(TILT)
+    = 1.586 by limit equilibrium."""
+    th = math.radians(TILT)
+    geo = GeometrySpec([rectangle("base", 0, 0, 4, 1), rectangle("block", 1, 1, 2, 1.5)])
+    stages = stages or [Gravity(1.0, direction=(math.sin(th), -math.cos(th))),
+                        Solve(ratio=1e-6, max_steps=20_000),
+                        FactorOfSafety(("*",), f_levels=(1.0, 1.25, 1.5, 2.0), refine_to=0.05,
+                                       failure_displacement=0.01)]
+    return Scene(geo, {"*": Material(kn=1e9, ks=1e9, friction=PHI)}, density=2500.0,
+                 groups=groups or {}, boundaries=[Boundary("base")],
+                 points={"top": (1.5, 1.4)}, stages=stages, name="tilted block",
+                 description="a block on a tilted plane")
+
+
+def test_a_scene_file_runs_from_the_command_line_with_the_runners_numbers(tmp_path, capsys):
+    sc = tilted_block()
+    path = tmp_path / "tilted.json"
+    sc.save(path)
+    assert cli.main(["run-scene", str(path), "--out", str(tmp_path / "out"), "--vtk"]) == 0
+    err = capsys.readouterr().err                   # a line per stage and per search level
+    assert "stage 1 solve: equilibrium" in err
+    assert re.search(r"stage 2 F = 1.25 \(level 2/4\): equilibrium, \d+ steps, elapsed "
+                     r"[\d.]+ s, left ~[\d.]+ s", err)
+    folder = tmp_path / "out" / "tilted_block"
+    summary = json.loads((folder / "summary.json").read_text())
+
+    m = build_model(Scene.load(path))
+    records = run_stages(m, sc.stages)
+    assert summary["scene"] == "tilted block" and summary["error"] is None
+    assert summary["blocks"] == m.n_blocks == 2
+    assert len(summary["stages"]) == len(records) == 3
+    for s, r in zip(summary["stages"], records):
+        assert (s["kind"], s["verdict"], s["steps"], s["cracks"]) == (r.kind, r.verdict,
+                                                                      r.steps, r.cracks)
+        assert s["time"] == r.time
+        assert {k: tuple(v) for k, v in s["points"].items()} == r.points
+    fos = records[2].detail["factor_of_safety"]
+    assert summary["stages"][2]["factor_of_safety"] == summary["results"]["factor_of_safety"] \
+        == fos
+    assert summary["results"]["first_failed"] == records[2].detail["first_failed"]
+    assert summary["stages"][2]["search"]["level"] == records[2].detail["F"]
+    # the search brackets limit equilibrium's F
+    assert fos <= math.tan(math.radians(PHI)) / math.tan(math.radians(TILT)) \
+        <= records[2].detail["first_failed"]
+
+    with open(folder / "stages.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    assert [int(r["steps"]) for r in rows] == [r.steps for r in records]
+    assert float(rows[-1]["top_ux_m"]) == pytest.approx(records[-1].points["top"][0], rel=1e-7)
+    assert stage_table(records) in (folder / "report.md").read_text()
+    assert (folder / "blocks.png").stat().st_size > 10_000
+    vtu = meshio.read(folder / "tilted_block.vtu")
+    assert sum(len(c.data) for c in vtu.cells) >= 2
+
+
+def test_a_stage_that_raises_keeps_the_stages_before_it(tmp_path, capsys):
+    sc = tilted_block(stages=[Gravity(1.0), Solve(ratio=1e-6, max_steps=20_000),
+                              Excavate("nothing")],
+                      groups={"nothing": {"inside": [[3, 3], [4, 3], [4, 4]]}})   # no block
+    path = tmp_path / "bad.json"
+    sc.save(path)
+    assert cli.main(["run-scene", str(path), "--out", str(tmp_path), "--quiet"]) == 1
+    assert "stage 2 stopped the run" in capsys.readouterr().err
+    summary = json.loads((tmp_path / "tilted_block" / "summary.json").read_text())
+    assert [s["kind"] for s in summary["stages"]] == ["gravity", "solve"]
+    assert "nothing" in summary["error"]
+
+
+@pytest.mark.parametrize("text, words", [(None, "No such file"), ("{not json", "not valid JSON"),
+                                         ('{"name": "x"}', "missing 'geometry'")])
+def test_a_bad_scene_file_is_one_line_naming_the_file(tmp_path, capsys, text, words):
+    path = tmp_path / "scene.json"
+    if text is not None:
+        path.write_text(text)
+    assert cli.main(["run-scene", str(path), "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and str(path) in err and words in err
+
+
+def test_an_unwritable_out_is_refused_before_the_model_is_built(tmp_path, capsys):
+    path = tmp_path / "tilted.json"
+    tilted_block().save(path)
+    (tmp_path / "out").write_text("a file")
+    assert cli.main(["run-scene", str(path), "--out", str(tmp_path / "out")]) == 2
+    assert "cannot write results" in capsys.readouterr().err
