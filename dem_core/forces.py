@@ -187,9 +187,9 @@ def log_crack(cracks, time, xa, ya, event, a, b, m):
 warnings.filterwarnings("ignore", category=NumbaPerformanceWarning,
                         message=r"(?s).*parallel=True.*no transformation for parallel")
 @njit(cache=True, parallel=True)
-def add_contact_forces(c, strength, s, cracks, time):
+def add_contact_forces(c, strength, s, cracks, time, edges=False):
     """All live contacts (``contact_update``), forces added to both blocks in contact order;
-    a new failure is appended to ``cracks``."""
+    a new failure is appended to ``cracks``. ``edges``: the edge elements (module docstring)."""
     f, pos = s.force, s.pos
     for k in range(c.count[0]):
         fx, fy, xa, ya, event = contact_update(k, c, strength, s)
@@ -203,7 +203,7 @@ def add_contact_forces(c, strength, s, cracks, time):
         f[a, 0] -= fx
         f[a, 1] -= fy
         f[a, 2] -= (xa - pos[a, 0]) * fy - (ya - pos[a, 1]) * fx
-        p = c.partner[k]
+        p = c.partner[k] if edges else -1
         if 0 <= p < k:                     # the second half of an edge: the element's share
             gx, gy, mb, ma = edge_correction(k, c, s, xa, ya)
             f[b, 0] += gx

@@ -527,7 +527,8 @@ class Model:
 
     def _integrator(self):
         half = 0.5 * self.search_margin if self.search_enabled else math.inf
-        return Integrator(float(self.dt), self.damping, half, self.kinetic_damping, self.kinetic)
+        return Integrator(float(self.dt), self.damping, half, self.kinetic_damping, self.kinetic,
+                          self.edge_elements)
 
     def _run(self, n):
         support.set_controls(self)

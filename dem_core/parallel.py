@@ -100,7 +100,7 @@ CHUNKS_PER_THREAD, MIN_CHUNK = 8, 256
 
 
 @njit(cache=True, parallel=True)
-def add_contact_forces_parallel(c, strength, s, cracks, time, par):
+def add_contact_forces_parallel(c, strength, s, cracks, time, par, edges=False):
     """Same inputs and effect as ``forces.add_contact_forces``, with the ``Parallel`` bundle."""
     work, events = par.work, par.events
     nc = c.count[0]
@@ -127,7 +127,7 @@ def add_contact_forces_parallel(c, strength, s, cracks, time, par):
                 f[i, 0] -= fx
                 f[i, 1] -= fy
                 f[i, 2] -= (xa - pos[i, 0]) * fy - (ya - pos[i, 1]) * fx
-            p = c.partner[k]
+            p = c.partner[k] if edges else -1
             if 0 <= p < k:                   # the edge's share (forces.edge_correction)
                 gx, gy, mb, ma = edge_correction(k, c, s, xa, ya)
                 if e & 1:

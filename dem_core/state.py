@@ -116,6 +116,8 @@ class Integrator(NamedTuple):
     kinetic : (3,) float64. Kinetic energy at the last check (J/m, inertial masses), steps
         since it, and 1 when the motion was just stopped (the next velocity update is half a
         step).
+    edge_elements : bool. The two contacts of each shared edge act as one linear element
+        (``forces.edge_correction``); False: the kernels never read ``Contacts.partner``.
     """
 
     dt: float
@@ -123,6 +125,7 @@ class Integrator(NamedTuple):
     half_margin: float
     kinetic_interval: int
     kinetic: np.ndarray
+    edge_elements: bool = False
 
 
 def block_props(bs, density) -> BlockProps:

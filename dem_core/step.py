@@ -66,9 +66,9 @@ def run_steps(nsteps, time, integ, s, p, c, strength, cracks, par, gravity, load
     for step in range(nsteps):
         s.force[:] = 0.0
         if par.offsets.shape[0] == 0:
-            add_contact_forces(c, strength, s, cracks, time)
+            add_contact_forces(c, strength, s, cracks, time, integ.edge_elements)
         else:
-            add_contact_forces_parallel(c, strength, s, cracks, time, par)
+            add_contact_forces_parallel(c, strength, s, cracks, time, par, integ.edge_elements)
         add_gravity(gravity, s, p)
         add_loads(loads, s, p)
         add_water(water, s, p)
