@@ -88,7 +88,7 @@ def _force_point(k, c, s):
 SPAN_TOLERANCE = 0.02
 
 
-@njit(cache=True)        # not inlined: the same machine arithmetic in both kernels
+@njit(cache=True, inline="always")
 def edge_correction(k, c, s, xk, yk):
     """What turns the lumped forces of contact k and its partner p (this step's stresses:
     p < k in contact order) into the edge's element (module docstring): (fx, fy) the extra
@@ -143,7 +143,7 @@ def _open_end(s_closed, e_open, le, l_closed):
     return total - far, far
 
 
-@njit(cache=True)        # not inlined: rare (slip or opening), kept out of the hot loop's code
+@njit(cache=True, inline="always")
 def _reanchor(k, c, s, xa, ya, xb, yb, u_n, nx, ny):
     """Move the free point(s) of slipping or open contact k across the normal from its anchor
     (x_b - x_a = u_n n, so the tangential offset is zero again)."""
@@ -164,7 +164,7 @@ def _reanchor(k, c, s, xa, ya, xb, yb, u_n, nx, ny):
     c.us[k] = 0.0
 
 
-@njit(cache=True)        # not inlined: rare, kept out of the hot loop's code
+@njit(cache=True, inline="always")
 def log_crack(cracks, time, xa, ya, event, a, b, m):
     """Append a failure to the CrackLog (rows [time, x, y, mode, block_a, block_b, material])."""
     i = cracks.count[0]
