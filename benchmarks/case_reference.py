@@ -27,7 +27,7 @@ WHY = (
     "The quick runs are deterministic on one machine (fixed seeds, serial kernels), but a "
     "damage model is chaotic near failure: a different CPU (fused multiply-add), compiler or "
     "numba version changes round-off, hence the order of bond failures. The tolerances allow "
-    "that and still catch a physics change: two bisection steps of the g-ramp (20 g) for a "
+    "that and still catch a physics change: one level of the quick's 20 g ramp (20 g) for a "
     "failure g (the quick T study spans 40 g), 10 % for a peak stress (the spread over seeds of "
     "the quick lajtai specimens; the k = 1 corner lock fixed in session 3 moved its points by "
     "32-67 %). A failure g of null means no failure up to the last level.")
