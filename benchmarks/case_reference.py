@@ -2,6 +2,7 @@
 
     python -m comparisons run adhikary --quick --out /tmp/q
     python -m comparisons run lajtai --quick --out /tmp/q
+    python -m comparisons run longtan --quick --out /tmp/q
     python benchmarks/case_reference.py --results /tmp/q [--cases adhikary lajtai] [--write]
 
 Reads results/<case>/summary.json of the quick ``adhikary`` and ``lajtai`` runs and prints (or,
@@ -30,7 +31,8 @@ WHY = (
     "that and still catch a physics change: one level of the quick's 20 g ramp (20 g) for a "
     "failure g (the quick T study spans 40 g), 10 % for a peak stress (the spread over seeds of "
     "the quick lajtai specimens; the k = 1 corner lock fixed in session 3 moved its points by "
-    "32-67 %). A failure g of null means no failure up to the last level.")
+    "32-67 %); for the longtan quick (40 g levels bisected to 10 g) two bisection steps, 20 g. "
+    "A failure g of null means no failure up to the last level.")
 
 
 def adhikary_numbers(summary: dict) -> dict:
@@ -51,7 +53,13 @@ def lajtai_numbers(summary: dict) -> dict:
     return {"mpa": points, "rel_tolerance": 0.10}
 
 
-NUMBERS = {"adhikary": adhikary_numbers, "lajtai": lajtai_numbers}
+def longtan_numbers(summary: dict) -> dict:
+    failure = {f"T={t:g}": g for t, g in summary["methods"]["dem"]["failure_g"]}
+    failure["conventional"] = summary["methods"]["conventional"]["failure_g"]
+    return {"failure_g": failure, "abs_tolerance_g": 20.0}
+
+
+NUMBERS = {"adhikary": adhikary_numbers, "lajtai": lajtai_numbers, "longtan": longtan_numbers}
 
 
 def main(argv=None):
