@@ -13,14 +13,10 @@ and that its failure g-levels are the stored regression numbers (tests/case_refe
 Quick = 6 mm blocks, a ramp in 20 g levels from 40 to 120 g, at most 13,000 steps a level, one
 process per run (two side by side; about 3 minutes on 2 cores).
 """
-import json
-from pathlib import Path
-
 import pytest
+from case_reference_check import assert_failure_g_matches
 
 from comparisons import adhikary
-
-REFERENCE = json.loads((Path(__file__).parent / "case_reference.json").read_text())
 
 
 @pytest.fixture(scope="module")
@@ -88,15 +84,8 @@ def test_rupture_runs_from_the_toe_into_the_slope(quick):
 
 
 def test_failure_g_matches_the_regression_reference(quick):
-    ref = REFERENCE["adhikary_quick"]
-    tol = ref["abs_tolerance_g"]
     measured = {f"T={t}": g for t, g in quick.methods["dem"]["failure_g"]}
     measured["flaw friction 25"] = quick.methods["dem"]["friction_study"][0][1]
     measured["bedding c 5 kPa"] = quick.methods["dem"]["bedding_cohesion_study"][0][1]
     measured["conventional"] = quick.methods["conventional"]["failure_g"]
-    assert set(measured) == set(ref["failure_g"])
-    for label, g in ref["failure_g"].items():
-        if g is None:
-            assert measured[label] is None, label
-        else:
-            assert measured[label] == pytest.approx(g, abs=tol), label
+    assert_failure_g_matches(measured, "adhikary_quick")
