@@ -121,8 +121,17 @@ def write_results(result: CaseResult, out_root: Path) -> Path:
                    comments="", fmt="%.8g")
     for name, fig in result.figures.items():
         fig.savefig(out / f"{name}.png", dpi=110, bbox_inches="tight")
+        _release(fig)
     (out / "report.md").write_text(render_report(result, summary["versions"]))
     return out
+
+
+def _release(fig) -> None:
+    """Let pyplot forget a written figure (it stays usable: a Figure can be saved again after
+    ``plt.close``), so a session that runs many cases does not keep every figure open."""
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
 
 
 def render_report(result: CaseResult, versions: dict) -> str:
