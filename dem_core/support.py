@@ -23,8 +23,8 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 
-from .components.cables import Cables, no_cables
-from .components.liner import Liners, no_liners
+from .components.cables import GROUT_SLIP, LINER_BOND, RUPTURE, YIELD, Cables, no_cables
+from .components.liner import no_liners
 
 __all__ = ["Cable", "Liner", "install", "support_stiffness", "set_node_masses",
            "support_log", "no_cables", "no_liners", "decay_length"]
@@ -447,7 +447,8 @@ def unbalanced(model):
 
 
 # ---------------------------------------------------------------- results
-_KINDS = {11: "grout slip", 12: "yield", 13: "rupture", 14: "bond failure"}
+_KINDS = {GROUT_SLIP: "grout slip", YIELD: "yield", RUPTURE: "rupture",
+          LINER_BOND: "bond failure"}
 
 
 def support_log(model) -> dict:

@@ -22,7 +22,7 @@ The grout pulls the node by -(F_axial t + F_across n) and the host block by the 
 the host point (so momentum is conserved). A node whose host was excavated is free.
 
 Nodes are integrated here, in the step, with the blocks' dt and local damping: their inertial
-mass is chosen when the time step is (``support.node_masses``) so that a node is no stiffer
+mass is chosen when the time step is (``support.set_node_masses``) so that a node is no stiffer
 than the stiffest block and the automatic step stays stable; the weight of a cable is left
 out (a few kg per metre against the rock it holds).
 
@@ -153,12 +153,12 @@ def _axial(cb):
             if cb.seg_state[j] == 0:
                 cb.seg_state[j] = 1
                 log_event(cb.log_rows, cb.log_count, time, 0.5 * (x[a, 0] + x[b, 0]),
-                          0.5 * (x[a, 1] + x[b, 1]), 12.0, cb.seg_cable[j], j)
+                          0.5 * (x[a, 1] + x[b, 1]), YIELD, cb.seg_cable[j], j)
         if length - l0 > cb.seg_rupture[j] * l0:
             cb.seg_state[j] = 2
             force = 0.0
             log_event(cb.log_rows, cb.log_count, time, 0.5 * (x[a, 0] + x[b, 0]),
-                      0.5 * (x[a, 1] + x[b, 1]), 13.0, cb.seg_cable[j], j)
+                      0.5 * (x[a, 1] + x[b, 1]), RUPTURE, cb.seg_cable[j], j)
         cb.seg_force[j] = force
         f[a, 0] += force * ex
         f[a, 1] += force * ey
@@ -192,7 +192,7 @@ def _grout(cb, s, p):
             along = sign * cap
             if cb.node_state[i] == 0 and cap > 0.0:
                 cb.node_state[i] = 1
-                log_event(cb.log_rows, cb.log_count, cb.control[2], x[i, 0], x[i, 1], 11.0,
+                log_event(cb.log_rows, cb.log_count, cb.control[2], x[i, 0], x[i, 1], GROUT_SLIP,
                           cb.node_cable[i], i)
         across = k * (-rx * ty + ry * tx)
         gx = along * tx - across * ty

@@ -28,8 +28,9 @@ rotation relative to its host since installation::
 node gets -(F_n n + F_s t) and -M, the host the opposite. The bond breaks for good when its
 peak normal stress F_n / l + 6 |M| / l^2 exceeds its tensile strength or |F_s| / l its shear
 strength; afterwards the face only pushes (F_n for r . n < 0; no shear, no moment). A bond
-whose host was excavated is gone, so a liner spans the opening. Gravity acts on the liner's real mass rho t l per node; its
-inertia is scaled like a cable node's (``support.node_masses``).
+whose host was excavated is gone, so a liner spans the opening. Gravity acts on the liner's
+real mass rho t l per node; its inertia is scaled like a cable node's
+(``support.set_node_masses``).
 
 Events (first axial yield or hinge of an element, bond failure of a node) go to ``log_rows``
 (``cables.log_event``; kinds ``YIELD`` and ``LINER_BOND``).
@@ -43,7 +44,7 @@ import numpy as np
 from numba import njit
 
 from ..kinematics import body_point, rotate
-from .cables import log_event
+from .cables import LINER_BOND, YIELD, log_event
 from .nodes import damped, move_nodes
 
 __all__ = ["Liners", "add_liners", "no_liners"]
@@ -113,8 +114,8 @@ class Liners(NamedTuple):
 
 _INT = {"bond_node", "bond_host", "node_liner", "el_a", "el_b", "el_liner", "log_count"}
 _INT8 = {"bond_state", "el_state"}
-_WIDTH = {"node_pos": 2, "node_pos0": 2, "node_vel": 2, "node_force": 3, "bond_local": 2, "bond_normal": 2,
-          "bond_force": 3, "el_plastic": 3, "el_force": 3}
+_WIDTH = {"node_pos": 2, "node_pos0": 2, "node_vel": 2, "node_force": 3, "bond_local": 2,
+          "bond_normal": 2, "bond_force": 3, "el_plastic": 3, "el_force": 3}
 
 
 def no_liners() -> Liners:
@@ -180,7 +181,7 @@ def _yielded(ln, e, x, a, b):
     if ln.el_state[e] == 0:
         ln.el_state[e] = 1
         log_event(ln.log_rows, ln.log_count, ln.control[2], 0.5 * (x[a, 0] + x[b, 0]),
-                  0.5 * (x[a, 1] + x[b, 1]), 12.0, ln.el_liner[e], e)
+                  0.5 * (x[a, 1] + x[b, 1]), YIELD, ln.el_liner[e], e)
 
 
 @njit(cache=True)
@@ -207,7 +208,7 @@ def _bond(ln, s, p):
         if ln.bond_state[k] == 0 and (fn / length + 6.0 * abs(m) / length ** 2 >
                                       ln.bond_tension[k] or abs(fs) > ln.bond_shear[k] * length):
             ln.bond_state[k] = 1
-            log_event(ln.log_rows, ln.log_count, ln.control[2], x[i, 0], x[i, 1], 14.0,
+            log_event(ln.log_rows, ln.log_count, ln.control[2], x[i, 0], x[i, 1], LINER_BOND,
                       ln.node_liner[i], k)
         if ln.bond_state[k] != 0:
             fn, fs, m = min(fn, 0.0), 0.0, 0.0
