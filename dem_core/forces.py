@@ -16,8 +16,9 @@ field, a triangle whose resultant moves from L/3 towards the closed corner as th
 closed end spread in proportion. Once the two contacts have slid apart (their points no longer
 span the edge's length to 1 %) they are two point contacts again. ``Model(edge_elements=True)``
 turns this on (pairs in ``Contacts.partner``); off, every contact is its own spring. The edge
-then turns under a moment M with the rotational stiffness kn L^3/12 and fails (an end reaches T) at M = T L^2/6, the elastic values; lumped
-end forces alone give kn L^3/4 and T L^2/2 (three times too stiff and too strong in bending).
+then turns under a moment M with the rotational stiffness kn L^3/12 and fails (an end reaches
+T) at M = T L^2/6, the elastic values; lumped end forces alone give kn L^3/4 and T L^2/2
+(three times too stiff and too strong in bending).
 """
 from __future__ import annotations
 
