@@ -1,0 +1,155 @@
+"""What the field-slope cases share (thesis chapters 5-7): one scene's stage list run as a sweep
+member, its result as plain data, and the figures of a strength search.
+
+A field case's run is a ``dem_core.scene.Scene`` with all its stages: gravity (and an in-situ
+stress), a solve, excavations, and usually a search stage at the end (``strength_schedule``:
+the flaws' tensile strength lowered until the slope fails; ``factor_of_safety``). ``stage_run``
+runs it (``dem_core.stages.run_stages``), reports progress per stage and per level of a search
+(``comparisons.progress.report``, shown by the sweep), and returns:
+
+- ``label``, ``params`` (the member's, unchanged), ``blocks``, ``contacts``, ``runtime_s``;
+- ``stages``: per stage kind, verdict, steps, wall seconds, each monitoring point's (ux, uy) (m)
+  and the crack counts (tension, shear);
+- ``search``: the last search stage's levels, verdicts, steps and each point's ux and uy per
+  level (m), its ``parameter``, ``last_stable`` and ``failure`` values (None when nothing
+  failed), ``unstable`` and ``blowups`` (as ``limit.LimitRecord``); None without a search;
+- ``cracks``, ``crack_xy``, ``crack_mode`` (1 tension, 2 shear), ``crack_material``: the broken
+  bonds of the materials whose names start with one of ``crack_materials`` (default the intact
+  rock: flaws and region boundaries);
+- ``picture``: ``dem_core.plot.block_picture`` of the final state (the failed state when the
+  search failed), with those cracks and the joints.
+
+A member is a plain dict (``label``, ``params`` and anything the case's member function reads);
+inside a case run ``store`` keeps each finished member, so a stopped sweep loses only the
+members still running (``comparisons.sweep``). The rupture surface is added by the case
+(``comparisons.centrifuge.rupture``: it needs the case's face and joint dip).
+"""
+from __future__ import annotations
+
+import time
+
+import numba
+import numpy as np
+
+from comparisons.progress import ramp_status, report
+from dem_core.plot import block_picture
+from dem_core.scene import build_model
+from dem_core.stages import check_stages, run_stages
+
+__all__ = ["INTACT", "stage_run", "search_rows", "history_figure", "value_at_failure"]
+
+INTACT = ("flaw:", "boundary:")        # bonds through intact rock (not joints)
+_SEARCH_KEYS = ("search", "ramp")
+_PLANS = ("values", "f_levels", "g_levels")
+
+
+def stage_run(sc, member: dict, crack_materials=INTACT, **model_options) -> dict:
+    """Build the DEM model of scene ``sc`` and run its stages (module docstring). ``member``:
+    the sweep member (``label``, ``params``; ``threads`` optional, capped at numba's).
+    ``model_options`` override the scene's solver (``build_model``)."""
+    t0 = time.perf_counter()
+    threads = min(int(member.get("threads", 1)), numba.config.NUMBA_NUM_THREADS)
+    model = build_model(sc, threads=threads, **model_options)
+    check_stages(sc.stages, set(model.blocks.groups), model.materials)
+    n, finished = len(sc.stages), []
+
+    def on_stage(message):          # after each stage
+        finished.append(message)
+        report(f"{message} ({len(finished)}/{n} stages)", 0, elapsed=time.perf_counter() - t0)
+
+    def on_level(i, stage, m, rec):  # after each level of a search stage
+        plan = next(getattr(stage, k) for k in _PLANS if hasattr(stage, k))
+        text, left = ramp_status(rec, [float(v) for v in plan], time.perf_counter() - t0,
+                                 stage.refine_to)
+        report(f"stage {i} {text}", int(np.sum(rec.steps)), left,
+               elapsed=time.perf_counter() - t0)
+
+    out_records = run_stages(model, sc.stages, progress=on_stage, on_level=on_level)
+    log = model.crack_log()
+    keep = np.array([str(m).startswith(tuple(crack_materials)) for m in log["material"]],
+                    bool)
+    return {
+        "label": member["label"], "params": member["params"],
+        "blocks": int(model.blocks.n_blocks), "contacts": int(model.contacts.n),
+        "stages": [{"kind": r.kind, "verdict": r.verdict, "steps": int(r.steps),
+                    "seconds": float(r.seconds), "points": {k: list(v) for k, v in
+                                                            r.points.items()},
+                    "cracks": dict(r.cracks)} for r in out_records],
+        "search": _search(out_records),
+        "cracks": int(keep.sum()),
+        "crack_xy": np.column_stack([log["x"][keep], log["y"][keep]]).tolist(),
+        "crack_mode": np.asarray(log["mode"])[keep].tolist(),
+        "crack_material": [str(m) for m in np.asarray(log["material"])[keep]],
+        "picture": block_picture(model, cracks=tuple(crack_materials), joints="joint:"),
+        "runtime_s": time.perf_counter() - t0,
+    }
+
+
+def _search(records) -> dict | None:
+    """The last search stage's record as plain data (module docstring)."""
+    for r in reversed(records):
+        rec = next((r.detail[k] for k in _SEARCH_KEYS if k in r.detail), None)
+        if rec is None:
+            continue
+        return {"stage": r.index, "kind": r.kind, "parameter": rec.parameter,
+                "level": [float(v) for v in rec.level], "verdict": list(rec.verdict),
+                "steps": [int(v) for v in rec.steps],
+                "point_ux": {k: [float(v) for v in vals] for k, vals in rec.point_ux.items()},
+                "point_uy": {k: [float(v) for v in vals] for k, vals in rec.point_uy.items()},
+                "cracks": [int(v) for v in rec.cracks],
+                "last_stable": rec.last_stable_level, "failure": rec.failure_level,
+                "unstable": rec.unstable, "blowups": list(rec.blowups)}
+    return None
+
+
+def value_at_failure(run: dict):
+    """(last stable value, first failed value) of a run's search (None, None without one)."""
+    s = run.get("search")
+    return (None, None) if s is None else (s["last_stable"], s["failure"])
+
+
+def search_rows(run: dict, point: str, component: str = "ux") -> np.ndarray:
+    """(n, 2) rows (level, displacement of ``point`` in m) of a run's search levels, in the
+    order the levels were run."""
+    s = run.get("search")
+    if not s or point not in s["point_" + component]:
+        return np.zeros((0, 2))
+    return np.column_stack([s["level"], s["point_" + component][point]])
+
+
+def history_figure(runs: list, points: tuple, scale: float = 1e-6, unit: str = "MPa",
+                   component: str = "ux", xlabel: str | None = None):
+    """Each run's watched points' displacement (mm) against its search parameter (divided by
+    ``scale`` for the axis, in ``unit``), with the parameter's axis reversed when the search
+    lowers it (a strength schedule reads left to right as the rock weakens); the failed level
+    of each run is marked with a cross."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    colours = plt.get_cmap("tab10" if len(runs) <= 10 else "tab20")
+    lowering = False
+    for i, r in enumerate(runs):
+        s = r.get("search")
+        if not s:
+            continue
+        lowering = lowering or s["kind"] == "strength_schedule"
+        for j, (p, style) in enumerate(zip(points, ("-o", ":s", "--^", "-.v"))):
+            rows = search_rows(r, p, component)
+            if not len(rows):
+                continue
+            rows = rows[np.argsort(rows[:, 0])]
+            ax.plot(rows[:, 0] / scale, 1e3 * rows[:, 1], style, ms=3, color=colours(i),
+                    label=f"{p}, {r['label']}")
+            if s["failure"] is not None:
+                k = np.flatnonzero(np.asarray(s["level"]) == s["failure"])
+                if k.size:
+                    ax.plot(s["failure"] / scale, 1e3 * s["point_" + component][p][k[0]],
+                            "x", ms=9, color=colours(i))
+    if lowering:
+        ax.invert_xaxis()
+    ax.set_xlabel(xlabel or f"search parameter ({unit}); x: first failed level")
+    ax.set_ylabel(f"{'horizontal' if component == 'ux' else 'vertical'} displacement (mm)")
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    fig.tight_layout()
+    return fig
