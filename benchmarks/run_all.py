@@ -20,6 +20,8 @@ so a crash in one does not stop the rest:
                      and 4 mm; full: 8, 6, 4, 3 mm; the case's 1 g-step ramp, two processes)
 - bedding_demand.py  Adhikary beds' elastic shear demand against bedding cohesion, DEM and
                      continuum (docs/comparisons.md)
+- numba_pipelines.py the contact kernel through numba's plain and parallel pipelines (ns per
+                     contact, reference counts in the IR; docs/performance.md)
 - regression_numbers.py   prints the regression-guard numbers (does not rewrite the reference)
 - full only: continuum_scaling.py (slope and footing refinement), throughput.py --scaling,
   column_bending.py (flexural strength of a Voronoi column against beam theory by block size)
@@ -45,7 +47,7 @@ def main():
     mode = "--full" if a.full else "--quick"
     jobs = [["error_vs_time.py", mode], ["stability_map.py", mode], ["leave_out.py", mode],
             ["support_cost.py"],
-            ["performance.py", mode], ["lab_resolution.py", mode],
+            ["performance.py", mode], ["numba_pipelines.py"], ["lab_resolution.py", mode],
             ["centrifuge_resolution.py", "--edges", "0.008", "0.006", "0.004"]
             + (["0.003"] if a.full else []), ["bedding_demand.py"], ["regression_numbers.py"]]
     if a.full:

@@ -181,10 +181,12 @@ def log_crack(cracks, time, xa, ya, event, a, b, m):
     cracks.count[0] = i + 1
 
 
-# parallel=True without a prange: numba's parallel pipeline compiles this loop to code that
-# ran 11x faster (13 vs 146 ns per contact on the 2-core VM, 2026-11-21; same results to the
-# bit) than the plain pipeline; it still runs on the calling thread. Numba warns that it found
-# nothing to parallelise: expected here, so that one warning is silenced.
+# parallel=True without a prange: the parfor pass first simplifies the typed IR (copy
+# propagation), which removes the bundle copies that the inline="always" helpers leave and with
+# them the reference counting of every array in the contact loop: 18x faster than the plain
+# pipeline, same results to the bit (benchmarks/numba_pipelines.py, docs/performance.md). It
+# still runs on the calling thread; numba's warning that it found nothing to parallelise is
+# expected here, so that one warning is silenced.
 warnings.filterwarnings("ignore", category=NumbaPerformanceWarning,
                         message=r"(?s).*parallel=True.*no transformation for parallel")
 @njit(cache=True, parallel=True)
