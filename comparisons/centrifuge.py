@@ -84,7 +84,8 @@ def ramp_run(scene, params, member: dict, failure_displacement: float, creep: fl
     """Raise gravity on one scene to failure (a ``RaiseGravity`` stage, watching A and B).
 
     ``member`` holds ``label``, ``params`` (the plain dict of ``params``), ``g_levels``,
-    ``max_steps`` and optionally ``threads``, ``damping`` and ``kinetic_damping`` (the solver,
+    ``max_steps`` and optionally ``settle`` (stop a level early once settled,
+    ``limit.search_failure``), ``threads``, ``damping`` and ``kinetic_damping`` (the solver,
     default ``DAMPING`` and ``KINETIC_DAMPING``), ``refine_to`` (g: bisect the failure bracket
     to this width, ``raise_gravity``), ``vtk`` (a .vtu path: the model's state at the end of
     the ramp is written there, ``Model.write_vtk``, and each level's state to a series
@@ -105,7 +106,8 @@ def ramp_run(scene, params, member: dict, failure_displacement: float, creep: fl
     t0 = time.perf_counter()
     ramp = RaiseGravity(tuple(member["g_levels"]), ratio=1e-5, max_steps=member["max_steps"],
                         failure_displacement=failure_displacement, creep=creep,
-                        watch=("A", "B"), refine_to=member.get("refine_to"))
+                        watch=("A", "B"), refine_to=member.get("refine_to"),
+                        settle=bool(member.get("settle", False)))
     sc = scene.scene(params, stages=[ramp])
     checkpoint = member.get("checkpoint")
     saved = load_resumable(checkpoint, RampRecord) if checkpoint else None

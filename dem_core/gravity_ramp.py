@@ -51,7 +51,7 @@ class RampRecord(LimitRecord):
 def raise_gravity(model, g_levels, ratio=1e-4, max_steps=20_000, failure_displacement=None,
                   progress=None, stop_at_failure=True, ramp_steps=400, creep=None,
                   watch=None, refine_to=None, on_level=None, record=None,
-                  start=0.0) -> RampRecord:
+                  start=0.0, settle=False) -> RampRecord:
     """Solve the model at each g-level in turn (module docstring); return the record.
 
     Parameters
@@ -83,6 +83,7 @@ def raise_gravity(model, g_levels, ratio=1e-4, max_steps=20_000, failure_displac
         (``limit.search_failure``).
     record, start : to resume a ramp (``limit``, "Resuming"): its RampRecord and its last g;
         ``g_levels`` are then the levels after that. Default: a new record, from 0 g.
+    settle : stop a level early once it has settled (``limit.search_failure``).
     """
     check_levels(g_levels, "g_levels")
     if any(b <= a for a, b in zip(g_levels, list(g_levels)[1:])):
@@ -92,7 +93,7 @@ def raise_gravity(model, g_levels, ratio=1e-4, max_steps=20_000, failure_displac
                           max_steps=max_steps, failure_displacement=failure_displacement,
                           progress=progress, stop_at_failure=stop_at_failure, creep=creep,
                           watch=watch, refine_to=refine_to, start=float(start),
-                          on_level=on_level)
+                          on_level=on_level, settle=settle)
 
 
 def _ramp(model, g_from, g_to, steps, increments=10):

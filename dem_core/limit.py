@@ -12,8 +12,9 @@ at each level the model is solved towards equilibrium and judged:
   break the explicit scheme, but the slope failed first (``LimitRecord.blowups``). A blow-up
   before that ends the search with the verdict "unstable" and no failure level.
 
-A level that ends "moving" (not in equilibrium but slowing down) counts as stable; it is kept
-in the record so a reader can see how close the model came. The first failed level is
+A level that ends "moving" (not in equilibrium but slowing down) or "settled" (stopped early
+with ``settle``: no new crack and hardly any movement over two windows, ``monitor.settled``)
+counts as stable; it is kept in the record so a reader can see how close the model came. The first failed level is
 ``failure_level``; the limit lies between it and ``last_stable_level``. With ``refine_to`` the
 bracket is bisected from a snapshot of the last stable state (``Model.snapshot``) to that
 width, then, if the failed level came from a larger step, the parameter is moved on from the
@@ -42,7 +43,7 @@ from pathlib import Path
 import numpy as np
 
 from .model import Model, ModelUnstable
-from .monitor import SolveResult, verdict
+from .monitor import SETTLED, SolveResult, settled, verdict
 
 __all__ = ["LimitRecord", "search_failure", "check_levels", "save_resumable", "load_resumable",
            "remove_resumable"]
@@ -104,7 +105,8 @@ def check_levels(levels, name="levels", positive=True) -> np.ndarray:
 
 def search_failure(model, levels, apply, record=None, ratio=1e-4, max_steps=20_000,
                    failure_displacement=None, progress=None, stop_at_failure=True, creep=None,
-                   watch=None, refine_to=None, start=None, on_level=None) -> LimitRecord:
+                   watch=None, refine_to=None, start=None, on_level=None,
+                   settle=False) -> LimitRecord:
     """Move the load parameter through ``levels`` and judge each (module docstring).
 
     Parameters
@@ -125,6 +127,8 @@ def search_failure(model, levels, apply, record=None, ratio=1e-4, max_steps=20_0
     on_level : callable(model, record), optional: called after each level is judged and
         recorded, before the search books it as its last stable or failed level (e.g. to save
         a resumable state, module docstring, or to write VTK files).
+    settle : stop a level early as "settled" (stable; ``monitor.settled``) instead of running
+        it to ``max_steps`` when it has stopped moving and cracking.
     """
     levels = check_levels(levels, "levels", positive=False)
     if refine_to is not None:
@@ -142,7 +146,7 @@ def search_failure(model, levels, apply, record=None, ratio=1e-4, max_steps=20_0
         running[:] = [to, model.step]
         apply(model, frm, to)
         failed = _judge(model, rec, to, ratio, max_steps, failure_displacement, creep, watch,
-                        progress)
+                        progress, settle)
         _record(rec, model, to, failed[1], failed[0], progress)
         if on_level is not None:
             on_level(model, rec)
@@ -175,18 +179,19 @@ def search_failure(model, levels, apply, record=None, ratio=1e-4, max_steps=20_0
     return rec
 
 
-def _judge(model, rec, value, ratio, max_steps, failure_displacement, creep, watch, progress):
+def _judge(model, rec, value, ratio, max_steps, failure_displacement, creep, watch, progress,
+           settle=False):
     """Solve one level; (failed, SolveResult). A blow-up of a level already failing is failure
     (recorded in ``rec.blowups``); any other blow-up propagates."""
     trace = ([0], [0.0])            # the solve's checks: steps, displacement (m)
     try:
         if watch:
             res = _solve_watching(model, list(watch), ratio, max_steps, failure_displacement,
-                                  creep, trace=trace)
+                                  creep, trace=trace, settle=settle)
         else:
             res = model.solve(ratio=ratio, max_steps=max_steps,
                               failure_displacement=failure_displacement, creep=creep,
-                              trace=trace)
+                              trace=trace, settle=settle)
     except ModelUnstable as error:
         res = _failing_before_blow_up(trace, failure_displacement, creep)
         if res is None:
@@ -288,18 +293,19 @@ def _failing_before_blow_up(trace, failure_displacement, creep):
 
 
 def _solve_watching(model, names, ratio, max_steps, failure_displacement, creep, chunk=None,
-                    trace=None):
+                    trace=None, settle=False):
     """``Model.solve`` with the displacement test on history points ``names`` (see
     ``raise_gravity``): equilibrium at ``ratio``, failed when a point moved more than
     ``failure_displacement`` in this level or, at the step limit, by ``monitor.verdict`` on the
     points' displacement. ``trace``: optional (steps, displacements) lists the checks are
-    appended to (read after a ``ModelUnstable``)."""
+    appended to (read after a ``ModelUnstable``). ``settle``: as ``Model.solve``'s."""
     missing = [n for n in names if n not in model.points]
     if missing:
         raise ValueError(f"no history point(s) {missing}; add them with add_history_point")
     chunk = int(chunk or max(model.history.every, 100))
     start = np.array([model.point_motion(n)[:2] for n in names])
     steps, disp = trace if trace is not None else ([0], [0.0])
+    cracks = [int(model.cracks.count[0])]
     done, r = 0, float("inf")
     creep = 0.0 if creep is None else creep
     while done < max_steps:
@@ -316,6 +322,9 @@ def _solve_watching(model, names, ratio, max_steps, failure_displacement, creep,
         if failure_displacement is not None and d > failure_displacement:
             return SolveResult("failed", done, r, d, f"a watched point moved {d:.3g} m > "
                                f"{failure_displacement} m")
+        cracks.append(int(model.cracks.count[0]))
+        if settle and settled(steps, disp, cracks, max_steps // 5, creep):
+            return SolveResult("settled", done, r, max(disp), SETTLED)
     v, why = verdict(steps, disp, creep)
     return SolveResult(v, done, r, max(disp), why)
 

@@ -561,7 +561,7 @@ class Model:
                 self._record()
 
     def solve(self, ratio=1e-5, max_steps=100_000, check_every=None, failure_displacement=None,
-              creep=None, trace=None):
+              creep=None, trace=None, settle=False):
         """Cycle until the unbalanced ratio <= ``ratio`` or ``max_steps``; returns a SolveResult.
 
         ``failure_displacement`` (m): stop as "failed" once a block has moved this far during
@@ -569,6 +569,8 @@ class Model:
         increments below this do not count as movement in the end-of-run test
         (``monitor.verdict``). ``trace``: optional (steps, displacements) lists, each starting
         with 0, that the checks are appended to (still readable after a ``ModelUnstable``).
+        ``settle``: stop early as "settled" (``monitor.settled`` over windows of a fifth of
+        ``max_steps``).
         """
         if not (ratio > 0):
             raise ValueError(f"ratio must be > 0, got {ratio!r}")
@@ -577,6 +579,7 @@ class Model:
         start = self.state.pos.copy()
         act = self.props.active > 0
         steps, disp = trace if trace is not None else ([0], [0.0])
+        cracks = [int(self.cracks.count[0])]
         done, r = 0, math.inf
         while done < max_steps:
             k = min(check, max_steps - done)
@@ -592,6 +595,9 @@ class Model:
             if failure_displacement is not None and d > failure_displacement:
                 return monitor.SolveResult("failed", done, r, d,
                                            f"a block moved {d:.3g} m > {failure_displacement} m")
+            cracks.append(int(self.cracks.count[0]))
+            if settle and monitor.settled(steps, disp, cracks, max_steps // 5, creep):
+                return monitor.SolveResult("settled", done, r, max(disp), monitor.SETTLED)
         v, why = monitor.verdict(steps, disp, creep)
         return monitor.SolveResult(v, done, r, max(disp), why)
 

@@ -13,6 +13,13 @@ reaches the target; "failed" when a set failure displacement is exceeded, or at 
 when the largest block displacement is still growing without slowing down (the increment over
 the last fifth of the run is at least ``0.8`` of the increment over the fifth before, and larger
 than ``creep``); otherwise "moving".
+
+Early settling (``settle``, optional in ``Model.solve`` and the searches): a solve that has run
+two windows of ``window`` steps (the end test's fifth of the step limit) stops as "settled"
+once the displacement grew by at most ``creep / 2`` over the last window and at most ``creep``
+over the one before, with no new crack over both (``settled``). At the step limit such a run
+would be judged "moving" unless it sped up again; the crack condition holds back a level where
+fracture is still spreading (issue 29 item 4; docs/performance.md, "Fewer steps").
 """
 from __future__ import annotations
 
@@ -23,7 +30,7 @@ import numpy as np
 from numba import njit
 
 __all__ = ["unbalanced_ratio", "kinetic_energy", "strain_energy", "History", "verdict",
-           "SolveResult"]
+           "settled", "SolveResult"]
 
 
 @njit(cache=True)
@@ -110,7 +117,7 @@ class History:
 class SolveResult:
     """What ``Model.solve`` found.
 
-    verdict : "equilibrium", "moving" or "failed".
+    verdict : "equilibrium", "settled" (stopped early by ``settled``), "moving" or "failed".
     steps : steps taken; ratio : the final unbalanced ratio; max_displacement : m, the largest
     block displacement during the solve; reason : one line that explains the verdict.
     """
@@ -147,3 +154,25 @@ def verdict(steps, displacements, creep, slow_down=0.8):
                           f"steps vs {inc1:.3g} m over the fifth before")
     return "moving", (f"not in equilibrium, but slowing: {inc2:.3g} m over the last fifth vs "
                       f"{inc1:.3g} m before")
+
+
+SETTLED = "settled: no new crack and the displacement (nearly) still over two windows"
+
+
+def settled(steps, displacements, cracks, window, creep) -> bool:
+    """True when a solve may stop as "settled" (module docstring).
+
+    Parameters
+    ----------
+    steps, displacements, cracks : the checks so far: step count, largest (or watched)
+        displacement (m) and total crack count, each starting with the solve's start.
+    window : steps, > 0; creep : m.
+    """
+    s = np.asarray(steps, dtype=float)
+    if s[-1] < 2 * window:
+        return False
+    d = np.asarray(displacements, dtype=float)
+    d1, d2 = np.interp([s[-1] - 2 * window, s[-1] - window], s, d)
+    first = np.searchsorted(s, s[-1] - 2 * window, side="right") - 1   # the check at or before
+    return bool(d[-1] - d2 <= 0.5 * creep and d2 - d1 <= creep
+                and cracks[-1] == cracks[max(first, 0)])

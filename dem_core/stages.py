@@ -108,6 +108,7 @@ class RaiseGravity:
     creep: float | None = None
     watch: tuple = ()
     refine_to: float | None = None
+    settle: bool = False
 
     def check(self, i, groups, materials):
         g = [float(v) for v in self.g_levels]
@@ -132,7 +133,7 @@ class RaiseGravity:
                                 failure_displacement=self.failure_displacement,
                                 creep=self.creep, watch=tuple(self.watch),
                                 refine_to=self.refine_to, on_level=on_level, record=rec,
-                                start=start)
+                                start=start, settle=self.settle)
         verdict = "failed" if rec.failure_g is not None else (
             "unstable" if rec.unstable else "stood")
         return int(sum(rec.steps)), verdict, {"failure_g": rec.failure_g,

@@ -92,6 +92,7 @@ class FactorOfSafety:
     failure_displacement: float | None = None
     creep: float | None = None
     watch: tuple = ()
+    settle: bool = False
 
     def check(self, i, groups, materials):
         where = f"stage {i} (factor_of_safety)"
@@ -113,7 +114,7 @@ class FactorOfSafety:
                              max_steps=self.max_steps,
                              failure_displacement=self.failure_displacement, creep=self.creep,
                              watch=tuple(self.watch), refine_to=self.refine_to,
-                             on_level=on_level)
+                             on_level=on_level, settle=self.settle)
         return _detail(rec, "factor_of_safety", "first_failed", "F")
 
 
@@ -132,6 +133,7 @@ class StrengthSchedule:
     failure_displacement: float | None = None
     creep: float | None = None
     watch: tuple = ()
+    settle: bool = False
 
     def check(self, i, groups, materials):
         where = f"stage {i} (strength_schedule)"
@@ -156,5 +158,5 @@ class StrengthSchedule:
                              max_steps=self.max_steps,
                              failure_displacement=self.failure_displacement, creep=self.creep,
                              watch=tuple(self.watch), refine_to=self.refine_to, start=now,
-                             on_level=on_level)
+                             on_level=on_level, settle=self.settle)
         return _detail(rec, "last_stable_value", "failure_value", "values")

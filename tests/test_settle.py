@@ -1,0 +1,53 @@
+"""Early settling of a quasi-static level (``settle``; dem_core.monitor.settled): a level that
+has stopped moving and cracking ends as "settled" instead of running to its step limit, and the
+search's answer does not move."""
+import math
+
+import pytest
+
+from dem_core.monitor import settled
+from dem_core.scene import build_model
+from dem_core.stages import run_stages
+from dem_core.strength import FactorOfSafety
+from test_strength import THETA, block_on_plane
+
+STEPS = [0, 100, 200, 300, 400, 500]
+QUIET = [0.0, 1e-4, 1.5e-4, 1.6e-4, 1.61e-4, 1.612e-4]     # m: moved, then (nearly) still
+
+
+def test_a_still_uncracking_run_is_settled_after_two_windows():
+    assert settled(STEPS, QUIET, [0] * 6, window=200, creep=2e-4)
+
+
+def test_a_new_crack_in_the_last_two_windows_holds_it_back():
+    assert not settled(STEPS, QUIET, [0, 0, 1, 1, 1, 1], window=200, creep=2e-4)
+
+
+def test_movement_above_half_the_creep_over_the_last_window_holds_it_back():
+    moving = [0.0, 1e-4, 2e-4, 3e-4, 4e-4, 5e-4]              # 2e-4 m per 200 steps
+    assert not settled(STEPS, moving, [0] * 6, window=200, creep=2e-4)
+
+
+def test_a_run_shorter_than_two_windows_is_not_judged():
+    assert not settled(STEPS[:4], QUIET[:4], [0] * 4, window=200, creep=2e-4)
+
+
+def _factor_of_safety(settle):
+    """The block on a 30 degree plane (c = 0, phi = 40: F = tan 40 / tan 30 = 1.453) with a
+    force ratio no level reaches (1e-13), so every stable level runs to its step limit unless
+    it settles."""
+    sc = block_on_plane(0.0, 40.0)
+    m = build_model(sc)
+    fos = FactorOfSafety(("*",), f_levels=(1.0, 1.2, 1.4, 1.6), refine_to=0.02, ratio=1e-13,
+                         max_steps=10_000, failure_displacement=0.01, creep=1e-5,
+                         settle=settle)
+    return run_stages(m, [*sc.stages, fos])[-1]
+
+
+def test_settling_gives_the_same_factor_of_safety_in_fewer_steps():
+    today, early = _factor_of_safety(False), _factor_of_safety(True)
+    closed = math.tan(math.radians(40.0)) / math.tan(math.radians(THETA))
+    for rec in (today, early):
+        assert rec.detail["factor_of_safety"] == pytest.approx(closed, abs=0.03)
+    assert "settled" in early.detail["verdicts"] and "settled" not in today.detail["verdicts"]
+    assert early.steps <= 0.6 * today.steps, (early.steps, today.steps)
