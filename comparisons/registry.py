@@ -14,6 +14,7 @@ CASES = {
     "lajtai": "comparisons.lajtai",
     "adhikary": "comparisons.adhikary",
     "longtan": "comparisons.longtan",
+    "highwood": "comparisons.highwood",
 }
 
 DEMO_CASE = "adhikary"

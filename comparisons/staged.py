@@ -13,11 +13,19 @@ runs it (``dem_core.stages.run_stages``), reports progress per stage and per lev
 - ``search``: the last search stage's levels, verdicts, steps and each point's ux and uy per
   level (m), its ``parameter``, ``last_stable`` and ``failure`` values (None when nothing
   failed), ``unstable`` and ``blowups`` (as ``limit.LimitRecord``); None without a search;
+- ``searches``: every search stage's record in the same form, in stage order (a run with two
+  schedules, e.g. the tensile strength and then the cohesion, keeps both);
 - ``cracks``, ``crack_xy``, ``crack_mode`` (1 tension, 2 shear), ``crack_material``: the broken
   bonds of the materials whose names start with one of ``crack_materials`` (default the intact
   rock: flaws and region boundaries);
 - ``picture``: ``dem_core.plot.block_picture`` of the final state (the failed state when the
   search failed), with those cracks and the joints.
+
+``stop_on_failure=True`` ends the run after the first stage whose verdict is "failed" (a solve
+with ``failure_displacement`` that did not come to equilibrium, or a search that failed), so an
+"excavate until failure" sequence (Excavate, Solve, Excavate, Solve, ...) costs only the stages
+up to its critical height; ``stages`` then lists only the stages that ran (the index of each is
+its place in the scene's list).
 
 A member is a plain dict (``label``, ``params`` and anything the case's member function reads);
 inside a case run ``store`` keeps each finished member, so a stopped sweep loses only the
@@ -26,6 +34,7 @@ members still running (``comparisons.sweep``). The rupture surface is added by t
 """
 from __future__ import annotations
 
+import dataclasses
 import time
 
 import numba
@@ -43,9 +52,11 @@ _SEARCH_KEYS = ("search", "ramp")
 _PLANS = ("values", "f_levels", "g_levels")
 
 
-def stage_run(sc, member: dict, crack_materials=INTACT, **model_options) -> dict:
+def stage_run(sc, member: dict, crack_materials=INTACT, stop_on_failure=False,
+              **model_options) -> dict:
     """Build the DEM model of scene ``sc`` and run its stages (module docstring). ``member``:
     the sweep member (``label``, ``params``; ``threads`` optional, capped at numba's).
+    ``stop_on_failure``: end after the first failed stage (module docstring).
     ``model_options`` override the scene's solver (``build_model``)."""
     t0 = time.perf_counter()
     threads = min(int(member.get("threads", 1)), numba.config.NUMBA_NUM_THREADS)
@@ -64,7 +75,10 @@ def stage_run(sc, member: dict, crack_materials=INTACT, **model_options) -> dict
         report(f"stage {i} {text}", int(np.sum(rec.steps)), left,
                elapsed=time.perf_counter() - t0)
 
-    out_records = run_stages(model, sc.stages, progress=on_stage, on_level=on_level)
+    if stop_on_failure:
+        out_records = _until_failure(model, sc.stages, on_stage, on_level)
+    else:
+        out_records = run_stages(model, sc.stages, progress=on_stage, on_level=on_level)
     log = model.crack_log()
     keep = np.array([str(m).startswith(tuple(crack_materials)) for m in log["material"]],
                     bool)
@@ -76,6 +90,7 @@ def stage_run(sc, member: dict, crack_materials=INTACT, **model_options) -> dict
                                                             r.points.items()},
                     "cracks": dict(r.cracks)} for r in out_records],
         "search": _search(out_records),
+        "searches": [_search([r]) for r in out_records if _search([r]) is not None],
         "cracks": int(keep.sum()),
         "crack_xy": np.column_stack([log["x"][keep], log["y"][keep]]).tolist(),
         "crack_mode": np.asarray(log["mode"])[keep].tolist(),
@@ -83,6 +98,21 @@ def stage_run(sc, member: dict, crack_materials=INTACT, **model_options) -> dict
         "picture": block_picture(model, cracks=tuple(crack_materials), joints="joint:"),
         "runtime_s": time.perf_counter() - t0,
     }
+
+
+def _until_failure(model, stages, on_stage, on_level) -> list:
+    """``run_stages`` one stage at a time (each checked against the model as it is then),
+    stopping after the first stage whose verdict is "failed"; the records keep each stage's
+    index in ``stages``."""
+    records = []
+    for i, st in enumerate(stages):
+        rec = run_stages(model, [st], on_level=lambda _, s, m, r, i=i: on_level(i, s, m, r))[0]
+        records.append(dataclasses.replace(rec, index=i))
+        on_stage(f"stage {i} {rec.kind}: {rec.verdict}, {rec.steps} steps, "
+                 f"{rec.seconds:.1f} s")
+        if rec.verdict == "failed":
+            break
+    return records
 
 
 def _search(records) -> dict | None:
