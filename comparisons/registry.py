@@ -15,6 +15,7 @@ CASES = {
     "adhikary": "comparisons.adhikary",
     "longtan": "comparisons.longtan",
     "highwood": "comparisons.highwood",
+    "lornex": "comparisons.lornex",
 }
 
 DEMO_CASE = "adhikary"
