@@ -43,7 +43,7 @@ from pathlib import Path
 import numpy as np
 
 from .model import Model, ModelUnstable
-from .monitor import SETTLED, SolveResult, settled, verdict
+from .monitor import SETTLED, SolveResult, settle_window, settled, verdict
 
 __all__ = ["LimitRecord", "search_failure", "check_levels", "save_resumable", "load_resumable",
            "remove_resumable"]
@@ -323,7 +323,7 @@ def _solve_watching(model, names, ratio, max_steps, failure_displacement, creep,
             return SolveResult("failed", done, r, d, f"a watched point moved {d:.3g} m > "
                                f"{failure_displacement} m")
         cracks.append(int(model.cracks.count[0]))
-        if settle and settled(steps, disp, cracks, max_steps // 5, creep):
+        if settle and settled(steps, disp, cracks, *settle_window(max_steps, creep)):
             return SolveResult("settled", done, r, max(disp), SETTLED)
     v, why = verdict(steps, disp, creep)
     return SolveResult(v, done, r, max(disp), why)

@@ -569,8 +569,7 @@ class Model:
         increments below this do not count as movement in the end-of-run test
         (``monitor.verdict``). ``trace``: optional (steps, displacements) lists, each starting
         with 0, that the checks are appended to (still readable after a ``ModelUnstable``).
-        ``settle``: stop early as "settled" (``monitor.settled`` over windows of a fifth of
-        ``max_steps``).
+        ``settle``: stop early as "settled" (``monitor.settled``, ``monitor.settle_window``).
         """
         if not (ratio > 0):
             raise ValueError(f"ratio must be > 0, got {ratio!r}")
@@ -596,7 +595,8 @@ class Model:
                 return monitor.SolveResult("failed", done, r, d,
                                            f"a block moved {d:.3g} m > {failure_displacement} m")
             cracks.append(int(self.cracks.count[0]))
-            if settle and monitor.settled(steps, disp, cracks, max_steps // 5, creep):
+            window = monitor.settle_window(max_steps, creep)
+            if settle and monitor.settled(steps, disp, cracks, *window):
                 return monitor.SolveResult("settled", done, r, max(disp), monitor.SETTLED)
         v, why = monitor.verdict(steps, disp, creep)
         return monitor.SolveResult(v, done, r, max(disp), why)

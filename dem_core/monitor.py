@@ -15,11 +15,13 @@ the last fifth of the run is at least ``0.8`` of the increment over the fifth be
 than ``creep``); otherwise "moving".
 
 Early settling (``settle``, optional in ``Model.solve`` and the searches): a solve that has run
-two windows of ``window`` steps (the end test's fifth of the step limit) stops as "settled"
-once the displacement grew by at most ``creep / 2`` over the last window and at most ``creep``
-over the one before, with no new crack over both (``settled``). At the step limit such a run
-would be judged "moving" unless it sped up again; the crack condition holds back a level where
-fracture is still spreading (issue 29 item 4; docs/performance.md, "Fewer steps").
+two windows of ``SETTLE_WINDOW`` x its step limit stops as "settled" once the displacement grew
+by at most ``c / 2`` over the last window and at most ``c`` over the one before, with no new
+crack over both (``settled``); ``c`` is ``creep`` scaled from a fifth of the step limit (the end
+test's window) to the settling window, so the rates are the end test's (``settle_window``). At
+the step limit such a run would be judged "moving" unless it sped up again; the crack condition
+holds back a level where fracture is still spreading (issue 29 item 4; docs/performance.md,
+"Fewer steps to an answer").
 """
 from __future__ import annotations
 
@@ -30,7 +32,7 @@ import numpy as np
 from numba import njit
 
 __all__ = ["unbalanced_ratio", "kinetic_energy", "strain_energy", "History", "verdict",
-           "settled", "SolveResult"]
+           "settled", "settle_window", "SolveResult"]
 
 
 @njit(cache=True)
@@ -157,6 +159,14 @@ def verdict(steps, displacements, creep, slow_down=0.8):
 
 
 SETTLED = "settled: no new crack and the displacement (nearly) still over two windows"
+SETTLE_WINDOW = 0.1          # of the step limit
+
+
+def settle_window(max_steps, creep) -> tuple:
+    """(window in steps, creep over that window in m) of a solve of ``max_steps`` whose end
+    test takes ``creep`` over a fifth of them (module docstring)."""
+    window = max(1, int(SETTLE_WINDOW * max_steps))
+    return window, creep * window / (0.2 * max_steps)
 
 
 def settled(steps, displacements, cracks, window, creep) -> bool:
