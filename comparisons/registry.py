@@ -16,6 +16,8 @@ CASES = {
     "longtan": "comparisons.longtan",
     "highwood": "comparisons.highwood",
     "lornex": "comparisons.lornex",
+    "underdip": "comparisons.underdip",
+    "coal_buckling": "comparisons.coal_buckling",
 }
 
 DEMO_CASE = "adhikary"

@@ -53,19 +53,23 @@ _PLANS = ("values", "f_levels", "g_levels")
 
 
 def stage_run(sc, member: dict, crack_materials=INTACT, stop_on_failure=False,
-              **model_options) -> dict:
+              poses=False, **model_options) -> dict:
     """Build the DEM model of scene ``sc`` and run its stages (module docstring). ``member``:
     the sweep member (``label``, ``params``; ``threads`` optional, capped at numba's).
     ``stop_on_failure``: end after the first failed stage (module docstring).
+    ``poses``: also return ``poses``, the blocks' (pos (nb, 2) m, theta (nb,) rad) after each
+    stage that ran, as arrays (e.g. what moved during one stage).
     ``model_options`` override the scene's solver (``build_model``)."""
     t0 = time.perf_counter()
     threads = min(int(member.get("threads", 1)), numba.config.NUMBA_NUM_THREADS)
     model = build_model(sc, threads=threads, **model_options)
     check_stages(sc.stages, set(model.blocks.groups), model.materials)
-    n, finished = len(sc.stages), []
+    n, finished, pose_log = len(sc.stages), [], []
 
     def on_stage(message):          # after each stage
         finished.append(message)
+        if poses:
+            pose_log.append((model.state.pos.copy(), model.state.theta.copy()))
         report(f"{message} ({len(finished)}/{n} stages)", 0, elapsed=time.perf_counter() - t0)
 
     def on_level(i, stage, m, rec):  # after each level of a search stage
@@ -97,6 +101,7 @@ def stage_run(sc, member: dict, crack_materials=INTACT, stop_on_failure=False,
         "crack_material": [str(m) for m in np.asarray(log["material"])[keep]],
         "picture": block_picture(model, cracks=tuple(crack_materials), joints="joint:"),
         "runtime_s": time.perf_counter() - t0,
+        **({"poses": pose_log} if poses else {}),
     }
 
 

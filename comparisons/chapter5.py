@@ -1,0 +1,105 @@
+"""What the thesis's chapter-5 strength-schedule cases (``underdip``, ``coal_buckling``) share:
+the stage list "gravity, then the flaws' tensile strength lowered until the slope fails", the
+blocks that moved at failure, and the continuum column's strength reduction.
+
+Stage list (``schedule_stages``):
+
+1. gravity switched on with the table's strengths and solved (``failure_displacement``: a slope
+   that fails here fails at the table's strength), as the thesis did ("brought to equilibrium
+   under gravity loading"). The solver is local damping 0.8 (UDEC's default, the scenes'
+   ``solver``). **Why not kinetic damping** (the centrifuge cases' solver): in a trial of the
+   underdip slope with kinetic damping, gravity switched on at once broke 4447 flaws in
+   tension and the slope collapsed (the blocks fall until the contacts carry them and the
+   overshoot breaks the weak bonds), and no level came to equilibrium within 20000 steps;
+   with local damping (a trial with 3 m cells) 32 flaws broke and each level came to
+   equilibrium (ratio 1e-5) within 1600-5000 steps;
+2. ``strength_schedule``: the flaws' tensile strength through ``values`` (each solved to
+   equilibrium or judged failed, ``dem_core.strength.StrengthSchedule``);
+3. optionally (``cohesion_values``) a second schedule at the lowest tensile strength reached:
+   the flaws' cohesion lowered. It is not in the thesis: it shows which strength the mechanism
+   needs when lowering the tensile strength alone does not fail the slope;
+4. optionally (``post_failure_steps``) that many more steps at the strengths the model ended
+   with (the first failed level, if one failed): the search stops as soon as a level is judged
+   failed, often when the failing blocks have moved only centimetres (the "still moving"
+   verdict); the extra steps let the mechanism develop so that the blocks that moved can be
+   told from the elastic settlement (a slope that stood does not move in them).
+
+The mechanism (``moving_blocks``): the blocks that moved during the post-failure steps by more
+than a fraction (0.2) of the largest block's motion then. Their motion in those steps, not their
+displacement since the start, picks them out: the elastic settlement under gravity (up to 5 cm
+at the face of the underdip slope) is as large as a mechanism that has just started, and under
+local damping a failing slope creeps (0.1-0.3 m in 10,000-20,000 steps).
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from dem_core.stages import Cycle, Gravity, Solve
+from dem_core.strength import StrengthSchedule
+
+
+def schedule_stages(flaws: str, values, watch, *, max_steps: int,
+                    failure_displacement: float, creep: float, cohesion_values=(),
+                    post_failure_steps: int = 0, ratio: float = 1e-5) -> list:
+    """The stage list of the module docstring. ``flaws``: the material the schedules lower;
+    ``values`` (Pa, decreasing); ``watch``: point names judged; ``max_steps``,
+    ``failure_displacement`` (m), ``creep`` (m) per level as in ``limit.search_failure``."""
+    judge = dict(max_steps=max_steps, failure_displacement=failure_displacement, creep=creep,
+                 watch=tuple(watch), ratio=ratio)
+    out = [Gravity(1.0), Solve(ratio, max_steps, failure_displacement=failure_displacement),
+           StrengthSchedule(flaws, "tensile_strength", tuple(values), **judge)]
+    if len(cohesion_values):
+        out.append(StrengthSchedule(flaws, "cohesion", tuple(cohesion_values), **judge))
+    if post_failure_steps:
+        out.append(Cycle(int(post_failure_steps)))
+    return out
+
+
+def moving_blocks(run: dict, fraction: float = 0.2, min_motion: float = 0.02) -> dict | None:
+    """The mechanism of a failed run: the active blocks that moved, during its last stage (the
+    post-failure steps), more than ``fraction`` of the largest block's motion in it; None when
+    no block moved more than ``min_motion`` (m) then (the slope stood). Needs the run's
+    ``poses`` (``staged.stage_run(..., poses=True)``). Returns the blocks' start centroids
+    ``xy0`` (n, 2) m, their motion in the last stage ``du`` (n, 2) m and ``largest`` (m)."""
+    (pos_a, _), (pos_b, _) = run["poses"][-2], run["poses"][-1]
+    du = np.asarray(pos_b) - np.asarray(pos_a)
+    size = np.hypot(du[:, 0], du[:, 1]) * np.asarray(run["picture"]["active"]).astype(bool)
+    largest = float(size.max()) if size.size else 0.0
+    if largest < min_motion:
+        return None
+    keep = size > fraction * largest
+    return {"xy0": np.asarray(run["picture"]["pos0"])[keep], "du": du[keep],
+            "n": int(keep.sum()), "largest": largest}
+
+
+def continuum_fos(sc, regions, materials: dict, density: float, h: float, f_max: float = 6.0,
+                  f_start: float = 1.0):
+    """Strength-reduction factor of safety (``continuum_ref.ssr.factor_of_safety``) of the
+    scene's section meshed without joints (``regions``: the scene's Regions; ``materials``:
+    region name -> continuum material), under gravity with the scene's boundaries. Returns a
+    dict: ``factor_of_safety`` (None without a mechanism up to ``f_max``), ``first_failed``,
+    ``mechanism``, ``runtime_s``."""
+    from continuum_ref import ssr
+    from continuum_ref.from_scene import apply_boundaries, mesh_from_scene, scene_bounds
+    from continuum_ref.model import ContinuumModel
+    from dem_core.geometry import GeometrySpec
+
+    t0 = time.perf_counter()
+    cm = ContinuumModel(mesh_from_scene(sc, h, geometry=GeometrySpec(list(regions))),
+                        dict(materials), density)
+    apply_boundaries(cm, sc, scene_bounds(sc))
+    cm.set_gravity(1.0)
+    start = cm.equilibrate()
+    if not start.converged:
+        return {"factor_of_safety": None, "first_failed": f_start, "mechanism": False,
+                "note": "no equilibrium under gravity at F = 1",
+                "runtime_s": time.perf_counter() - t0}
+    fos = ssr.factor_of_safety(cm, list(cm.materials), f_max=f_max, f_start=f_start,
+                               first_step=0.25, tol=0.02)
+    return {"factor_of_safety": float(fos.value) if fos.found else None,
+            "last_converged": float(fos.value),
+            "first_failed": None if fos.first_failed is None else float(fos.first_failed),
+            "mechanism": bool(fos.mechanism), "runtime_s": time.perf_counter() - t0}
+

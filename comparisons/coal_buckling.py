@@ -1,0 +1,201 @@
+"""Case ``coal_buckling``: buckling of a 3.5 m footwall layer on a 75 m, 30 degree open-pit coal
+slope (thesis 5.3.2, Stead & Eberhardt 1997; CASES.md section 6): gravity, then the layer's
+tensile strength lowered everywhere until the slope fails.
+
+Methods:
+
+- ``dem``: the damage model (comparisons/scenes/coal_buckling.py: a Voronoi layer on a basal
+  plane of friction 20, running on below the pit floor), the stages of
+  ``comparisons.chapter5.schedule_stages``: gravity at the table's strengths (T 30 kPa), T
+  lowered through the variant's values and, not in the thesis, the cohesion at
+  T = 0. Reported: T at failure (last stable, first failed) and where the buckle forms;
+- ``conventional``: the same blocks with unbreakable flaws (full variant);
+- ``continuum``: ``continuum_ref`` strength reduction: the layer an equivalent Mohr-Coulomb
+  mass, the footwall and floor rock elastic (``equivalent_rock_mass``).
+
+Buckle (``buckle``): after the first failed level the model runs ``post_failure_steps`` more
+steps; the layer blocks that moved in them by more than ``FRACTION`` of the largest block's
+motion are the failing part (``chapter5.moving_blocks``); the buckle is where the layer moved
+furthest out of the face then (along the face's outward normal): its height above the toe as a
+fraction of the slope height (the thesis: the lower third), and the heights of the lowest and
+highest moving blocks.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from comparisons import centrifuge, chapter5, staged
+from comparisons.results import CaseResult, Curve
+from comparisons.scenes import coal_buckling as scene
+from comparisons.sweep import run_sweep
+from comparisons.variants import pick_variant
+
+DESCRIPTION = ("Footwall buckling, 75 m open-pit coal slope at 30 degrees (Stead & Eberhardt "
+               "1997, thesis 5.3.2): layer tensile strength lowered to failure; damage model "
+               "vs conventional vs continuum")
+KPA = 1e3
+REFERENCE = {
+    "thesis_dem_failure_T_kPa": 10.0,
+    "thesis_buckle": "at the lower third of the face, from the toe (fig 5.11b)",
+    "source": "Alzo'ubi (2009) thesis 5.3.2, table 5.4; Stead & Eberhardt (1997)",
+}
+FAILURE_DISPLACEMENT = 0.5      # m of a watched point in one level
+CREEP = 2e-3                    # m over the last fifth of a level: still moving
+FRACTION, MIN_MOTION = 0.2, 0.02   # the mechanism: moving > 0.2 x the largest motion (> 2 cm)
+WATCH = ("toe", "lower", "middle", "upper", "crest")
+
+VARIANTS = {
+    # quick: 0.7 m cells (five across the layer), T in 5 kPa steps to 10 kPa then 0, the
+    # cohesion at T = 0 in halvings, 10000 steps a level and after a failure (about 10 s)
+    "quick": dict(edge_length=0.7, values=[25, 20, 15, 10, 0], cohesion_values=[150, 75, 0],
+                  max_steps=10_000, post_failure_steps=10_000, conventional=False,
+                  continuum=True, continuum_h=3.0, workers=1, threads=1),
+    # full: 0.5 m cells (seven across), T in 5 kPa steps, the cohesion in 25-50 kPa steps, the
+    # conventional model, 20000 steps a level and after a failure
+    "full": dict(edge_length=0.5, values=[25, 20, 15, 10, 5, 0],
+                 cohesion_values=[200, 150, 100, 50, 25, 0], max_steps=20_000,
+                 post_failure_steps=20_000, conventional=True, continuum=True,
+                 continuum_h=1.5, workers=2, threads=1),
+}
+
+
+def members(v: dict, seed: int) -> list:
+    base = dict(edge_length=v["edge_length"], seed=seed)
+    out = [{"label": "damage model", "params": base, "v": v}]
+    if v["conventional"]:
+        out.append({"label": "conventional", "params": dict(base, conventional=True), "v": v})
+    return out
+
+
+def stages(p: scene.CoalBucklingParams, v: dict) -> list:
+    return chapter5.schedule_stages(
+        "flaw:layer", [KPA * t for t in v["values"]], WATCH, max_steps=v["max_steps"],
+        failure_displacement=FAILURE_DISPLACEMENT, creep=CREEP,
+        cohesion_values=[KPA * c for c in v["cohesion_values"]],
+        post_failure_steps=v["post_failure_steps"])
+
+
+def run_member(member: dict) -> dict:
+    """One run of the stage list (a sweep member: plain dict in, plain dict out)."""
+    p = scene.CoalBucklingParams(**member["params"])
+    run = staged.stage_run(scene.scene(p, stages(p, member["v"])), member, poses=True)
+    failed = any(s["failure"] is not None for s in run["searches"])
+    run["buckle"] = buckle(p, run) if failed else None
+    del run["poses"]                   # used up: keep the member's result small
+    return run
+
+
+def buckle(p: scene.CoalBucklingParams, run: dict) -> dict | None:
+    """Where the layer failed (module docstring), or None if nothing moved."""
+    moving = chapter5.moving_blocks(run, FRACTION, MIN_MOTION)
+    if moving is None:
+        return None
+    x, y = moving["xy0"][:, 0], moving["xy0"][:, 1]
+    layer = (scene.depth_below_face(p, x, y) > 0) & (y > p.floor_depth - 5.0)
+    if not layer.any():
+        return None
+    out = moving["du"][layer] @ scene.outward_normal()
+    height = (y[layer] - p.floor_depth) / scene.HEIGHT
+    top = int(np.argmax(out))
+    return {"blocks": int(layer.sum()), "height_fraction": float(height[top]),
+            "outward_m": float(out[top]), "lowest_height_fraction": float(height.min()),
+            "highest_height_fraction": float(height.max())}
+
+
+def equivalent_rock_mass(p: scene.CoalBucklingParams, tensile: float) -> dict:
+    """The layer as a Mohr-Coulomb mass of the flaws' cohesion and friction and the tensile
+    strength ``tensile`` (Pa): the intact layer, as the thesis's table gives it. The continuum
+    has no interface: the basal plane (friction 20) is welded, so the continuum is an upper
+    bound of the layered slope (its layer cannot slide on its base)."""
+    return {"cohesion": p.flaw_cohesion, "friction": p.flaw_friction,
+            "tensile_strength": tensile}
+
+
+def run_continuum(v: dict, tensile: float) -> dict:
+    from continuum_ref.materials import Elastic, MohrCoulomb
+
+    p = scene.CoalBucklingParams()
+    mass = equivalent_rock_mass(p, tensile)
+    layer = MohrCoulomb(E=p.block_E, nu=p.block_nu, dilation=0.0, **mass)
+    rock = Elastic(E=p.block_E, nu=p.block_nu)
+    out = chapter5.continuum_fos(scene.scene(p), scene.regions(p),
+                                 {"footwall": rock, "floor": rock, "layer": layer},
+                                 p.density, v["continuum_h"])
+    out["material"] = (f"layer Mohr-Coulomb c {mass['cohesion'] / 1e6:.2f} MPa, friction "
+                       f"{mass['friction']:.0f}, T {tensile / KPA:.0f} kPa, dilation 0; "
+                       f"footwall and floor elastic E {p.block_E / 1e9:.0f} GPa; basal plane "
+                       f"welded; h {v['continuum_h']} m")
+    return out
+
+
+def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
+    """Run the case: ``variant`` is "quick", "full" or a settings mapping (``VARIANTS`` keys)."""
+    variant, v = pick_variant("coal_buckling", VARIANTS, variant)
+    progress = progress or (lambda message: None)
+    result = CaseResult("coal_buckling", variant, seed, reference=dict(REFERENCE))
+    runs = run_sweep(run_member, members(v, seed), workers=v["workers"], progress=progress)
+    for r in runs:
+        result.methods["conventional" if r["label"] == "conventional" else "dem"] = _entry(r)
+    t_fail = result.methods["dem"]["T_failure_kPa"]
+    result.add_error("dem T at failure (kPa) vs thesis", t_fail, 10.0)
+    b = runs[0]["buckle"]
+    result.add_error("dem buckle height (fraction of H) vs thesis lower third",
+                     None if b is None else b["height_fraction"], [0.0, 1.0 / 3.0])
+    if "conventional" in result.methods:
+        result.add_error("conventional T at failure (kPa) vs thesis DM",
+                         result.methods["conventional"]["T_failure_kPa"], 10.0, "conventional")
+    if v["continuum"]:
+        progress("continuum: strength reduction at T = 0")
+        result.methods["continuum"] = run_continuum(v, 0.0)
+    _curves_and_figures(result, runs)
+    result.notes += [
+        "Gravity switched on with the table's strengths, local damping 0.8 "
+        "(comparisons/chapter5.py).",
+        "After T the cohesion is lowered at T = 0 (not in the thesis): which strength the "
+        "buckle needs.",
+        f"Failure: a watched point ({', '.join(WATCH)}) moves more than "
+        f"{FAILURE_DISPLACEMENT} m in a level or is still moving (> {CREEP} m over the last "
+        f"fifth, not slowing) after {v['max_steps']} steps.",
+        "The layer runs on below the pit floor (buttressed by the floor rock); dimensions "
+        "beyond height, angle and thickness, density and block modulus are assumptions "
+        "(comparisons/scenes/coal_buckling.py).",
+    ]
+    return result
+
+
+def _entry(r) -> dict:
+    t = next(s for s in r["searches"] if s["parameter"] == "tensile_strength")
+    c = next((s for s in r["searches"] if s["parameter"] == "cohesion"), None)
+
+    def kpa(x):
+        return None if x is None else x / KPA
+    return {"T_levels_kPa": [kpa(x) for x in t["level"]], "T_verdicts": list(t["verdict"]),
+            "T_last_stable_kPa": kpa(t["last_stable"]), "T_failure_kPa": kpa(t["failure"]),
+            "c_last_stable_kPa": None if c is None else kpa(c["last_stable"]),
+            "c_failure_kPa": None if c is None else kpa(c["failure"]),
+            "buckle": r["buckle"], "blocks": r["blocks"], "cracks": r["cracks"],
+            "stages": [(s["kind"], s["verdict"], s["steps"]) for s in r["stages"]],
+            "runtime_s": r["runtime_s"]}
+
+
+def _curves_and_figures(result, runs):
+    for r in runs:
+        name = r["label"].replace(" ", "_")
+        for s in r["searches"]:
+            rows = np.column_stack([s["level"]] + [s["point_ux"][k] for k in WATCH])
+            result.curves[f"{s['parameter']}_search_{name}"] = Curve(
+                [s["parameter"] + "_Pa"] + [f"ux_{k}_m" for k in WATCH], rows)
+    for i, (key, label) in enumerate((("history", "flaw tensile strength (kPa)"),
+                                      ("history_cohesion", "flaw cohesion at T = 0 (kPa)"))):
+        chosen = [dict(r, search=r["searches"][i]) for r in runs
+                  if len(r["searches"]) > i and len(r["searches"][i]["level"]) > 1]
+        if chosen:
+            result.figures[key] = staged.history_figure(
+                chosen, ("toe", "lower", "middle"), scale=KPA, unit="kPa",
+                xlabel=f"{label}; x: first failed level")
+    base = runs[0]
+    b = base["buckle"]
+    title = ("coal footwall, damage model: final state" + (
+        "" if b is None else f"; largest outward movement at {b['height_fraction']:.2f} H "
+        f"above the toe"))
+    result.figures["blocks_at_failure"] = centrifuge.cracks_figure(scene, base, None, title)
