@@ -18,6 +18,7 @@ CASES = {
     "lornex": "comparisons.lornex",
     "underdip": "comparisons.underdip",
     "coal_buckling": "comparisons.coal_buckling",
+    "checkerboard": "comparisons.checkerboard",
 }
 
 DEMO_CASE = "adhikary"

@@ -1,0 +1,115 @@
+"""The quick ``checkerboard`` variant end to end (a 550 m window around the highway cut, 6 m
+flaws near it, UCS 76, 50 and 30 MPa, the support pair, the weathering boundary, the conventional
+model, the continuum at 20 m elements; about 80 s on 2 cores).
+
+Asserted where the quick model shows the thesis's findings, strict xfail where it does not
+(measured reasons in docs/cases/checkerboard.md); no band is tuned to a measurement, each
+is the thesis's claim itself (larger / smaller, fails / stands):
+
+- support reduces the cut's displacement: the crest's displacement from the equilibrium at
+  high strength through the weathered strength and the support schedule (T 0.8 -> 0.5 ->
+  0.2 -> 0.1 MPa at UCS 30) with cables is below that without; the thesis's "the supported
+  slope stands where the unsupported fails" is a strict xfail (both stand);
+- the flaw strength fed to the model follows Hoek-Brown: lower UCS, lower c and friction, and
+  a Hoek-Brown tensile strength of the order the thesis quotes (9-20 kPa; Table 7.2's
+  weathered units 16-22 kPa; band 5-40 kPa: a factor 2 around those, the GSI/mi rounding);
+- the continuum's factor of safety falls with UCS (same Hoek-Brown masses, weaker at 30);
+- Table 7.4's trend: T at failure is higher at UCS 50 and 30 than at 76 MPa. 76 -> 50 held
+  in a finer plan too (13 levels, 8000 steps); 76 -> 30 reversed there (docs): for 30 MPa a
+  regression guard of the quick numbers more than proof of the trend;
+- weathering (strict xfail): more fracturing than the strength loss, and only the cut moving
+  on after the release.
+"""
+import pytest
+
+from comparisons import checkerboard
+
+
+@pytest.fixture(scope="module")
+def quick():
+    return checkerboard.run("quick", seed=1)
+
+
+def test_support_reduces_the_crest_displacement(quick):
+    sup = quick.methods["dem"]["support"]
+    assert sup["supported"]["crest_displacement_m"] < sup["unsupported"]["crest_displacement_m"]
+
+
+def test_flaw_strength_follows_hoek_brown(quick):
+    rows = {r["ucs_MPa"]: r for r in quick.methods["dem"]["back_analysis"]}
+    assert rows[30.0]["c_MPa"] < rows[76.0]["c_MPa"]
+    assert rows[30.0]["friction"] < rows[76.0]["friction"]
+    for r in rows.values():
+        assert 5.0 < r["hoek_brown_t_kPa"] < 40.0
+
+
+def test_continuum_factor_of_safety_falls_with_ucs(quick):
+    fos = {r["ucs_MPa"]: r["factor_of_safety"] for r in quick.methods["continuum"]["rows"]}
+    assert fos[30.0] < fos[76.0]
+
+
+def test_t_at_failure_rises_as_ucs_falls(quick):
+    """Table 7.4's trend: the slope fails at a higher T when UCS (so c and friction) is lower
+    than the weathered gneiss's own 76 MPa. Every UCS must fail inside the schedule (a T at
+    failure exists)."""
+    rows = {r["ucs_MPa"]: r["t_failure_MPa"] for r in quick.methods["dem"]["back_analysis"]}
+    assert all(t is not None for t in rows.values())
+    assert rows[50.0] > rows[76.0] and rows[30.0] > rows[76.0]
+
+
+@pytest.mark.xfail(strict=True, reason="measured: without support the quick slope also stands "
+                   "at T 0.5, 0.2, 0.1 MPa when it starts at T 0.8 (UCS 30), though the "
+                   "back-analysis run lowered from T = c failed at 1.0: the loading path, not "
+                   "the support, decides")
+def test_unsupported_slope_fails_supported_stands(quick):
+    """Thesis 7.8: at UCS 30 with T lowered 0.8 -> 0.5 -> 0.2 -> 0.1 MPa the slope with cables
+    and shotcrete stands, the one without fails."""
+    sup = quick.methods["dem"]["support"]
+    assert sup["supported"]["t_failure_MPa"] is None
+    assert sup["unsupported"]["t_failure_MPa"] is not None
+
+
+@pytest.mark.xfail(strict=True, reason="measured: the T-schedule run at UCS 76 ends in a "
+                   "collapse of the cut (165 cracks through intact rock), the displaced one "
+                   "has 130: the comparison is with a failed slope, not with the thesis's")
+def test_weathering_boundary_fractures_more_than_strength_loss(quick):
+    """Thesis 7.7.2: the constant-velocity boundary (1.85 m) fractures the weathered rock more
+    than the tensile-strength degradation at the same UCS (76 MPa) does."""
+    dem = quick.methods["dem"]
+    weathering = dem["weathering"]
+    assert weathering["displace_verdict"] == "displaced"
+    back76 = next(r for r in dem["back_analysis"] if r["ucs_MPa"] == 76.0)
+    assert weathering["cracks"] > back76["cracks"]
+
+
+@pytest.mark.xfail(strict=True, reason="measured: after the release the displaced skin itself "
+                   "moves on most (slope point 0.46 m, crest 0.13 m, face 0.04 m): its "
+                   "momentum, not a failure of the cut alone")
+def test_after_release_only_the_cut_moves_on(quick):
+    """Thesis 7.7.2: after the displacement boundary is freed only the part at the highway cut
+    fails; the rest comes to rest. Asserted as: the cut's crest moves more after the release
+    than the point on the natural slope."""
+    after = quick.methods["dem"]["weathering"]["after_release_m"]
+    assert after["crest"] > after["slope"]
+
+
+def test_conventional_model_does_not_fracture(quick):
+    """Unbreakable flaws: the conventional model has no cracks through intact rock and no T
+    at failure (only the joints and the fault could slip, and they hold)."""
+    conv = quick.methods["conventional"]
+    assert conv["cracks"] == 0 and conv["t_failure_MPa"] is None
+
+
+def test_scene_round_trips_and_bad_params_are_refused(tmp_path):
+    from comparisons.scenes import checkerboard as cb
+    from dem_core.scene import Scene
+
+    p = cb.CheckerboardParams(**checkerboard.VARIANTS["quick"]["params"])
+    sc = cb.scene(p, checkerboard.member_stages("supported", p, checkerboard.VARIANTS["quick"]))
+    sc.save(tmp_path / "checkerboard.json")
+    assert Scene.load(tmp_path / "checkerboard.json").to_dict() == sc.to_dict()
+    for bad, word in ((dict(edge_length=-1.0), "edge_length"), (dict(natural_slope=60.0),
+                      "natural_slope"), (dict(window=(3690.0, 700.0)), "window"),
+                      (dict(ucs=float("nan")), "ucs")):
+        with pytest.raises(ValueError, match=word):
+            cb.CheckerboardParams(**bad)
