@@ -308,7 +308,7 @@ def _liner_arrays(model, ln: Liner) -> dict:
     chain = _chain(fb[mine], f0[mine], f1[mine], blocks.centroid, ln.group)
     h = ln.segment_length or float(np.median(model.props.radius[model.props.active > 0]))
     st = model.state
-    nodes, bonds = [], []                 # bonds: (node, block, body point, normal, length)
+    nodes, bonds = [], []                 # bonds: (node, block, normal, length)
     for b, p0, p1 in chain:
         d = p1 - p0
         flen = float(np.hypot(*d))
@@ -319,13 +319,18 @@ def _liner_arrays(model, ln: Liner) -> dict:
             nodes.append(world[0])
         for j in range(k):
             nodes.append(world[j + 1])
-            for node, e in ((len(nodes) - 2, ends[j]), (len(nodes) - 1, ends[j + 1])):
-                bonds.append((node, b, e, np.array([d[1], -d[0]]) / flen, 0.5 * flen / k))
+            for node in (len(nodes) - 2, len(nodes) - 1):
+                bonds.append((node, b, np.array([d[1], -d[0]]) / flen, 0.5 * flen / k))
     xy = np.asarray(nodes)
     n = len(xy)
     bn = np.array([r[0] for r in bonds], np.int64)
     host = np.array([r[1] for r in bonds], np.int64)
-    blen = np.array([r[4] for r in bonds])
+    # each bond holds its node where it was sprayed: where two blocks' faces meet at a node,
+    # the blocks may have moved apart before the liner went on, and the node sits at the first
+    # face's end, so the second block's body point is taken under the node, not at its corner
+    # (a bond stretched at installation would push the blocks apart)
+    local = _body(model, host, xy[bn])
+    blen = np.array([r[3] for r in bonds])
     mass = np.zeros(n)
     np.add.at(mass, bn, ln.density * ln.thickness * blen)
     d = np.diff(xy, axis=0)
@@ -335,8 +340,8 @@ def _liner_arrays(model, ln: Liner) -> dict:
         node_pos=xy, node_theta=np.zeros(n), node_vel=np.zeros((n, 2)), node_omega=np.zeros(n),
         node_force=np.zeros((n, 3)), node_pos0=xy.copy(), node_mass=mass, node_inv_mass=np.zeros(n),
         node_inv_inertia=np.zeros(n),
-        bond_node=bn, bond_host=host, bond_local=np.array([r[2] for r in bonds]),
-        bond_normal=np.array([r[3] for r in bonds]), bond_theta0=st.theta[host],
+        bond_node=bn, bond_host=host, bond_local=local,
+        bond_normal=np.array([r[2] for r in bonds]), bond_theta0=st.theta[host],
         bond_length=blen, bond_kn=ln.bond_kn * blen, bond_ks=ln.bond_ks * blen,
         bond_kr=ln.bond_kn * blen ** 3 / 3.0, bond_tension=np.full(len(bn), ln.bond_tension),
         bond_shear=np.full(len(bn), ln.bond_shear), bond_state=np.zeros(len(bn)),

@@ -31,6 +31,8 @@ def quick():
 
 
 def test_support_reduces_the_crest_displacement(quick):
+    """Thesis 7.8: cables and shotcrete (Table 7.5) hold the weathered cut; here both runs
+    stand, so the comparison is the crest's movement with and without support."""
     sup = quick.methods["dem"]["support"]
     assert sup["supported"]["crest_displacement_m"] < sup["unsupported"]["crest_displacement_m"]
 

@@ -136,6 +136,31 @@ def test_a_weakly_bonded_liner_comes_off_and_the_failures_are_logged():
     assert (m.liners.bond_state[m.liners.bond_host != m.group("mid")[0]] == 1).any()
 
 
+def test_a_liner_sprayed_on_blocks_that_moved_apart_goes_on_stress_free():
+    """The middle block has dropped 5 mm and turned 0.01 rad before the liner goes on, so its
+    top face's ends no longer meet its neighbours': every bond and element starts unloaded
+    (a stretched bond would push the blocks apart), and without gravity nothing moves."""
+    geo = GeometrySpec([rectangle("left", 0, 0, 2, 1), rectangle("mid", 2, 0, 6, 1),
+                        rectangle("right", 6, 0, 8, 1)])
+    sc = Scene(geo, {"*": Material(kn=1e10, ks=1e10)}, density=2500.0,
+               groups={"all": {"union": ["left", "mid", "right"]}})
+    m = build_model(sc)
+    mid = m.group("mid")[0]
+    m.state.pos[mid, 1] -= 0.005
+    m.state.theta[mid] += 0.01
+    m.state.rot[mid] = (math.cos(0.01), math.sin(0.01))
+    m.state.rot_half[mid] = (math.cos(0.005), math.sin(0.005))
+    m.fix("all")
+    m.install(Liner("all", thickness=0.1, E=30e9, tensile_yield=1e9, compressive_yield=1e9,
+                    bond_kn=1e13, bond_ks=1e13, bond_tension=1e12, bond_shear=1e12,
+                    segment_length=0.5,
+                    within=((-1, 0.9), (9, 0.9), (9, 1.5), (-1, 1.5))))
+    m.cycle(100)
+    ln = m.liners
+    assert np.abs(ln.bond_force).max() < 1e-6 and np.abs(ln.el_force).max() < 1e-6
+    assert np.abs(ln.node_pos - ln.node_pos0).max() < 1e-12
+
+
 def test_the_automatic_step_accounts_for_a_very_stiff_cable():
     plain = two_blocks()
     stiff = pulled_cable(two_blocks(), area=1e-2, E=2e12, grout_stiffness=1e13)
