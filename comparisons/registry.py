@@ -19,6 +19,7 @@ CASES = {
     "underdip": "comparisons.underdip",
     "coal_buckling": "comparisons.coal_buckling",
     "checkerboard": "comparisons.checkerboard",
+    "common_toppling": "comparisons.common_toppling",
 }
 
 DEMO_CASE = "adhikary"

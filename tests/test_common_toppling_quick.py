@@ -1,0 +1,102 @@
+"""The quick ``common_toppling`` variant end to end (6 m layers, 3 m flaws in a 24 m zone,
+about 970 blocks; six DEM runs and the continuum): which of the thesis's findings (5.2.2) it
+shows, and strict xfails, with the measured reason, for those it does not. The numbers the
+xfails quote: docs/cases/common_toppling.md."""
+import math
+
+import pytest
+
+from comparisons import common_toppling as case
+from comparisons.scenes import common_toppling as scene
+from dem_core.scene import Scene
+
+
+@pytest.fixture(scope="module")
+def quick():
+    return case.run("quick", seed=1)
+
+
+def _failure(quick, name=None):
+    dem = quick.methods["dem"]
+    return dem["tensile_at_rupture_MPa"] if name is None else dem["studies"][name]["failure_MPa"]
+
+
+def test_the_6m_model_ruptures_when_its_tensile_strength_is_lowered(quick):
+    """The damage model forms a rupture somewhere on the schedule (10 MPa down to 0.25 MPa):
+    the solve stops coming to equilibrium and a connected path of intact-rock cracks reaches
+    the lower half of the face (``find_rupture``), over at least a quarter of the slope
+    height."""
+    assert _failure(quick) is not None
+    rupture = quick.methods["dem"]["rupture"]
+    assert rupture is not None and rupture["length_m"] >= case.RUPTURE_MIN * scene.SLOPE_HEIGHT
+
+
+@pytest.mark.xfail(strict=True, reason="measured (quick, 2026-11-25): the 6 m model stands at "
+                   "T = 1 MPa (table 5.2) and at 0.5 MPa and first fails at 0.25 MPa; the "
+                   "assumed 120 m slope loads its columns far less than the thesis's model "
+                   "(toe bending stress ~ gamma H^2 / t; fig 5.6's height is not given)")
+def test_table_5_2_ruptures_the_6m_model_and_t_at_rupture_is_near_7_mpa(quick):
+    """Thesis: with table 5.2 (T = 1 MPa) a rupture forms; 7 MPa holds, 6.8 ruptures. Band:
+    the quick schedule's levels are 7, 4, 2, 1, ... MPa, so a critical T in [6.8, 7] makes the
+    first failed level 4 MPa (or 7, one level early: the random cells)."""
+    t = _failure(quick)
+    assert t is not None and 4.0 <= t <= 7.0
+
+
+@pytest.mark.parametrize("study", [
+    pytest.param("friction 50", marks=pytest.mark.xfail(
+        strict=True, reason="measured (quick, 2026-11-25): with flaw friction 50 the 6 m model "
+        "stands down to the schedule's lowest T, 0.25 MPa, where the base model (30) fails "
+        "(crest 335 mm against 494 mm; the cause was not measured)")),
+    "cohesion 15"])
+def test_more_flaw_friction_or_cohesion_does_not_stop_the_rupture(quick, study):
+    """Thesis: friction 30 -> 50 or cohesion 5 -> 15 MPa does not stop the rupture (tension
+    controls it). On the same schedule of T the stronger model must still fail, at the base
+    model's level or earlier (a higher T): the shear strength does not hold it longer."""
+    base, stronger = _failure(quick), _failure(quick, study)
+    assert base is not None and stronger is not None and stronger >= base - 1e-9
+
+
+def test_conventional_model_never_ruptures(quick):
+    """Unbreakable flaws (the conventional model without cross joints): no rupture can form,
+    so the schedule runs down to its lowest T without a failure."""
+    conv = quick.methods["conventional"]
+    lowest = min(case.VARIANTS["quick"]["t_values"]) / 1e6
+    assert conv["tensile_at_rupture_MPa"] is None and conv["lowest_tensile_MPa"] == lowest
+
+
+def test_the_crest_moves_far_more_than_the_toe(quick):
+    """Thesis fig 5.9: at rupture the top of the slope moves considerably more than the toe
+    (columns rotating about their bases). Band: at least twice as far."""
+    moved = quick.methods["dem"]["displacement_at_rupture_m"]
+    assert moved["crest"] > 2.0 * moved["toe"]
+
+
+def test_critical_height_rises_with_tensile_strength(quick):
+    """Thesis fig 5.10: Hc rises with T. Quick: 6 m layers, table 5.3, T = 0.25 and 1 MPa; the
+    weaker slope must fail during the excavation (else the test says nothing) and the
+    stronger one later or not at all (None: all 12 lifts stood). The weaker one's failure must
+    come with a rupture surface (``find_rupture``), so the trend is about toppling."""
+    rows = {t: (h, k) for s, t, h, k in quick.methods["dem"]["critical_height"] if s == 6.0}
+    (weak, with_rupture), (strong, _) = rows[0.25], rows[1.0]
+    assert weak is not None and with_rupture        # a toppling rupture, not a lost block
+    assert strong is None or strong > weak
+
+
+def test_continuum_stands_at_full_height(quick):
+    """The intact rock without joints (upper bound) stands the whole excavation with F > 1."""
+    c = quick.methods["continuum"]
+    assert c["failure_height_m"] is None and c["factor_of_safety"] > 1.0
+    assert c["joints_everywhere_fos"] == pytest.approx(math.tan(math.radians(30)) /
+                                                      math.tan(math.radians(60)))
+
+
+def test_scene_round_trips_and_bad_params_are_refused(tmp_path):
+    p = scene.ToppleParams(edge_length=3.0, zone_depth=24.0)
+    sc = scene.scene(p, case.height_stages(p, case.VARIANTS["quick"]))
+    sc.save(tmp_path / "s.json")
+    assert Scene.load(tmp_path / "s.json").to_dict() == sc.to_dict()
+    for bad in (dict(spacing=-1.0), dict(spacing=1.5, edge_length=3.0),
+                dict(flaw_tensile=1e9), dict(zone_depth=500.0), dict(joint_friction=95.0)):
+        with pytest.raises(ValueError, match=next(iter(bad))):
+            scene.ToppleParams(**bad)
