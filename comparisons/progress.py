@@ -91,10 +91,10 @@ class Progress:
         if self.quiet:
             return
         with self._lock:
-            if status.index in self._finished:
+            if not self.live:       # a log keeps every report, even one that arrives after
+                self._write(f"{self._prefix()} {status.line()}\n")     # the member's result
                 return
-            if not self.live:
-                self._write(f"{self._prefix()} {status.line()}\n")
+            if status.index in self._finished:
                 return
             self._lines[status.index] = status.line()
             self._erase()
@@ -107,7 +107,8 @@ class Progress:
             self._lines.clear()
 
     def finish(self, index: int) -> None:
-        """Member ``index`` is done: its line goes (its later reports are ignored)."""
+        """Member ``index`` is done: its line goes (on a live board its later reports are
+        ignored; a report from a pool's queue can arrive after the member's result)."""
         with self._lock:
             self._finished.add(index)
             if self._lines.pop(index, None) is not None and not self.quiet:
