@@ -57,6 +57,20 @@ def schedule_stages(flaws: str, values, watch, *, max_steps: int,
     return out
 
 
+def run_schedule(sc, member: dict, locate) -> tuple:
+    """Run scene ``sc`` (stages from ``schedule_stages``) as a sweep member
+    (``staged.stage_run``, with the blocks' poses after each stage) and, if a search failed,
+    ``locate(run)`` (the case's reading of the mechanism, from ``moving_blocks``). Returns
+    (run without the poses, the mechanism or None)."""
+    from comparisons import staged
+
+    run = staged.stage_run(sc, member, poses=True)
+    failed = any(s["failure"] is not None for s in run["searches"])
+    mechanism = locate(run) if failed else None
+    del run["poses"]                   # used up: keep the member's result small
+    return run, mechanism
+
+
 def moving_blocks(run: dict, fraction: float = 0.2, min_motion: float = 0.02) -> dict | None:
     """The mechanism of a failed run: the active blocks that moved, during its last stage (the
     post-failure steps), more than ``fraction`` of the largest block's motion in it; None when

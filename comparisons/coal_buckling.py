@@ -78,10 +78,9 @@ def stages(p: scene.CoalBucklingParams, v: dict) -> list:
 def run_member(member: dict) -> dict:
     """One run of the stage list (a sweep member: plain dict in, plain dict out)."""
     p = scene.CoalBucklingParams(**member["params"])
-    run = staged.stage_run(scene.scene(p, stages(p, member["v"])), member, poses=True)
-    failed = any(s["failure"] is not None for s in run["searches"])
-    run["buckle"] = buckle(p, run) if failed else None
-    del run["poses"]                   # used up: keep the member's result small
+    run, mechanism = chapter5.run_schedule(scene.scene(p, stages(p, member["v"])), member,
+                                           lambda r: buckle(p, r))
+    run["buckle"] = mechanism
     return run
 
 

@@ -88,10 +88,9 @@ def stages(p: scene.UnderdipParams, v: dict) -> list:
 def run_member(member: dict) -> dict:
     """One run of the stage list (a sweep member: plain dict in, plain dict out)."""
     p = scene.UnderdipParams(**member["params"])
-    run = staged.stage_run(scene.scene(p, stages(p, member["v"])), member, poses=True)
-    failed = any(s["failure"] is not None for s in run["searches"])
-    run["toppled"] = toppled_zone(p, run) if failed else None
-    del run["poses"]                   # used up: keep the member's result small
+    run, mechanism = chapter5.run_schedule(scene.scene(p, stages(p, member["v"])), member,
+                                           lambda r: toppled_zone(p, r))
+    run["toppled"] = mechanism
     return run
 
 
