@@ -57,6 +57,16 @@ def schedule_stages(flaws: str, values, watch, *, max_steps: int,
     return out
 
 
+def variant_stages(flaws: str, v: dict, watch, failure_displacement: float,
+                   creep: float) -> list:
+    """``schedule_stages`` from a case variant ``v`` (``values`` and ``cohesion_values`` in
+    kPa, ``max_steps``, ``post_failure_steps``)."""
+    return schedule_stages(flaws, [1e3 * t for t in v["values"]], watch,
+                           max_steps=v["max_steps"], failure_displacement=failure_displacement,
+                           creep=creep, cohesion_values=[1e3 * c for c in v["cohesion_values"]],
+                           post_failure_steps=v["post_failure_steps"])
+
+
 def run_schedule(sc, member: dict, locate) -> tuple:
     """Run scene ``sc`` (stages from ``schedule_stages``) as a sweep member
     (``staged.stage_run``, with the blocks' poses after each stage) and, if a search failed,

@@ -68,11 +68,7 @@ def members(v: dict, seed: int) -> list:
 
 
 def stages(p: scene.CoalBucklingParams, v: dict) -> list:
-    return chapter5.schedule_stages(
-        "flaw:layer", [KPA * t for t in v["values"]], WATCH, max_steps=v["max_steps"],
-        failure_displacement=FAILURE_DISPLACEMENT, creep=CREEP,
-        cohesion_values=[KPA * c for c in v["cohesion_values"]],
-        post_failure_steps=v["post_failure_steps"])
+    return chapter5.variant_stages("flaw:layer", v, WATCH, FAILURE_DISPLACEMENT, CREEP)
 
 
 def run_member(member: dict) -> dict:

@@ -78,11 +78,7 @@ def members(v: dict, seed: int) -> list:
 
 
 def stages(p: scene.UnderdipParams, v: dict) -> list:
-    return chapter5.schedule_stages(
-        "flaw:zone", [KPA * t for t in v["values"]], WATCH, max_steps=v["max_steps"],
-        failure_displacement=FAILURE_DISPLACEMENT, creep=CREEP,
-        cohesion_values=[KPA * c for c in v["cohesion_values"]],
-        post_failure_steps=v["post_failure_steps"])
+    return chapter5.variant_stages("flaw:zone", v, WATCH, FAILURE_DISPLACEMENT, CREEP)
 
 
 def run_member(member: dict) -> dict:
