@@ -6,9 +6,11 @@ it goes: in a parallel loop that is a write race. Here the work is split in thre
 1. every contact (in parallel, by chunks: about ``CHUNKS_PER_THREAD`` per thread): geometry,
    the law, its force and point,
    stored per contact;
-2. the crack log (serially, in contact order, so the log is the same as the serial one);
+2. the crack log (serially, in contact order, so the log is the same as the serial one),
+   reading only the chunks of pass 1 that had a bond failure;
 3. every block (in parallel): the sum of its contacts' forces in contact order, read through a
-   block -> contact table (CSR) built when the contact list changes.
+   block -> contact table (CSR) built when the contact list changes; this pass also zeroes
+   the block's force first (the step's zeroing, in the same pass).
 
 Each block sums the same numbers in the same order as the serial kernel, so the results are
 identical (tests/test_mech_parallel.py). Used when ``Model(threads=n)`` with n > 1.
@@ -31,12 +33,15 @@ class Parallel(NamedTuple):
 
     work : (nc, 4) float64. Per contact: force on B (N/m) and contact point (m).
     events : (nc,) int64. Per contact: the law's event.
+    failures : (number of chunks,) int64. Per chunk of the first pass: its bond failures (the
+        crack-log pass reads only the chunks that have some).
     offsets : (nb + 1,) int64, entries : (2 nc,) int64. ``contact_table``.
     chunk : int. Contacts per chunk of the first pass (0 when serial).
     """
 
     work: np.ndarray
     events: np.ndarray
+    failures: np.ndarray
     offsets: np.ndarray
     entries: np.ndarray
     chunk: int
@@ -45,14 +50,15 @@ class Parallel(NamedTuple):
 def no_parallel() -> Parallel:
     """The empty bundle: the step runs the serial kernel."""
     return Parallel(np.zeros((0, 4)), np.zeros(0, np.int64), np.zeros(0, np.int64),
-                    np.zeros(0, np.int64), 0)
+                    np.zeros(0, np.int64), np.zeros(0, np.int64), 0)
 
 
 def parallel_bundle(c, nb, threads) -> Parallel:
     """Scratch and table for the live contacts of ``c`` among ``nb`` blocks, on ``threads``."""
     offsets, entries = contact_table(c.count[0], c.block_a, c.block_b, nb)
     chunk = max(MIN_CHUNK, -(-c.n // (CHUNKS_PER_THREAD * threads)))
-    return Parallel(np.empty((c.n, 4)), np.empty(c.n, np.int64), offsets, entries, chunk)
+    return Parallel(np.empty((c.n, 4)), np.empty(c.n, np.int64),
+                    np.zeros(-(-c.n // chunk), np.int64), offsets, entries, chunk)
 
 
 @njit(cache=True)
@@ -84,14 +90,18 @@ def contact_table(nc, block_a, block_b, nb):
 @njit(cache=True, parallel=True)
 def contact_range(c, strength, s, work, events, k0, k1):
     """Contacts k0 <= k < k1 (``forces.contact_update``): force on B, point and event stored
-    per contact in ``work`` and ``events``."""
+    per contact in ``work`` and ``events``; returns the number of bond failures among them."""
+    failures = 0
     for k in range(k0, k1):
         fx, fy, xa, ya, event = contact_update(k, c, strength, s)
         events[k] = event
+        if event == 1 or event == 2:
+            failures += 1
         work[k, 0] = fx
         work[k, 1] = fy
         work[k, 2] = xa
         work[k, 3] = ya
+    return failures
 
 
 # chunks of the first pass per thread (a chunk is one call, and a thread's unit of work), and
@@ -102,19 +112,26 @@ CHUNKS_PER_THREAD, MIN_CHUNK = 8, 256
 @njit(cache=True, parallel=True)
 def add_contact_forces_parallel(c, strength, s, cracks, time, par, edges=False):
     """Same inputs and effect as ``forces.add_contact_forces``, with the ``Parallel`` bundle."""
-    work, events = par.work, par.events
+    work, events, failures = par.work, par.events, par.failures
     nc = c.count[0]
     chunk = par.chunk
     for j in prange(-(-nc // chunk)):
-        contact_range(c, strength, s, work, events, j * chunk, min(nc, (j + 1) * chunk))
-    for k in range(nc):                      # the crack log, in contact order
-        event = events[k]
-        if event == 1 or event == 2:
-            log_crack(cracks, time, work[k, 2], work[k, 3], event, c.block_a[k],
-                      c.block_b[k], c.material[k])
+        failures[j] = contact_range(c, strength, s, work, events, j * chunk,
+                                    min(nc, (j + 1) * chunk))
+    for j in range(-(-nc // chunk)):         # the crack log, in contact order
+        if failures[j] == 0:
+            continue
+        for k in range(j * chunk, min(nc, (j + 1) * chunk)):
+            event = events[k]
+            if event == 1 or event == 2:
+                log_crack(cracks, time, work[k, 2], work[k, 3], event, c.block_a[k],
+                          c.block_b[k], c.material[k])
     f, pos = s.force, s.pos
     nb = par.offsets.shape[0] - 1
     for i in prange(nb):
+        f[i, 0] = 0.0                        # (the step leaves the zeroing to this pass)
+        f[i, 1] = 0.0
+        f[i, 2] = 0.0
         for j in range(par.offsets[i], par.offsets[i + 1]):
             e = par.entries[j]
             k = e >> 1

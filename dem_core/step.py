@@ -18,6 +18,10 @@ One step (``run_steps`` loops it inside numba, no Python in between)::
     x += v dt;  theta += omega dt;  rot = R(theta);  checks (stability, search needed)
     kinetic damping (every ``kinetic_interval`` steps)
 
+With threads (``Model(threads=n)``, a non-empty ``Parallel`` bundle) the contact forces run
+``parallel.add_contact_forces_parallel`` (which also zeroes f, block by block) and the damping
+and integration ``advance_parallel``: the same numbers for every block, bit for bit.
+
 Velocities live at half steps (t - dt/2, t + dt/2), positions at whole steps. With alpha = 0 the
 scheme is symplectic: energy oscillates by O((omega dt)^2) and does not drift.
 
@@ -39,7 +43,7 @@ a tenth of its radius, or turning 0.1 rad, in one step; ``bad`` names the block)
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from .components import add_cables, add_gravity, add_liners, add_loads, add_water, servo_velocities
 from .components.nodes import damped
@@ -48,7 +52,7 @@ from .kinematics import body_point, set_rotation
 from .parallel import add_contact_forces_parallel
 
 __all__ = ["run_steps", "frequency_bound", "free_kinetic_energy", "stop_free_motion",
-           "advance", "DONE", "NEED_SEARCH", "UNSTABLE"]
+           "advance", "advance_parallel", "DONE", "NEED_SEARCH", "UNSTABLE"]
 
 DONE, NEED_SEARCH, UNSTABLE = 0, 1, 2
 
@@ -64,10 +68,10 @@ def run_steps(nsteps, time, integ, s, p, c, strength, cracks, par, gravity, load
     or 2 (unstable, before moving).
     """
     for step in range(nsteps):
-        s.force[:] = 0.0
         if par.offsets.shape[0] == 0:
+            s.force[:] = 0.0
             add_contact_forces(c, strength, s, cracks, time, integ.edge_elements)
-        else:
+        else:                              # (zeroes the forces in its per-block pass)
             add_contact_forces_parallel(c, strength, s, cracks, time, par, integ.edge_elements)
         add_gravity(gravity, s, p)
         add_loads(loads, s, p)
@@ -77,7 +81,10 @@ def run_steps(nsteps, time, integ, s, p, c, strength, cracks, par, gravity, load
         servo_velocities(servo, s, p)
         kick = 0.5 * integ.dt if integ.kinetic[2] != 0.0 else integ.dt
         integ.kinetic[2] = 0.0
-        status, bad = advance(s, p, integ, kick)
+        if par.offsets.shape[0] == 0:
+            status, bad = advance(s, p, integ, kick)
+        else:
+            status, bad = advance_parallel(s, p, integ, kick)
         if status == UNSTABLE:
             return step, time, UNSTABLE, bad
         time += integ.dt
@@ -87,7 +94,42 @@ def run_steps(nsteps, time, integ, s, p, c, strength, cracks, par, gravity, load
     return nsteps, time, DONE, -1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
+def _advance_block(i, s, p, dt, alpha, kick, half_margin):
+    """Damp, integrate, turn and check block i; returns DONE, NEED_SEARCH or UNSTABLE (then
+    block i has not moved). ``advance`` states the rules."""
+    vel, omega = s.vel, s.omega
+    fx = p.fixity[i]
+    if fx & 1:
+        vel[i, 0] = p.velocity_bc[i, 0]
+    else:
+        vel[i, 0] += damped(s.force[i, 0], vel[i, 0], alpha) * p.inv_mass[i] * kick
+    if fx & 2:
+        vel[i, 1] = p.velocity_bc[i, 1]
+    else:
+        vel[i, 1] += damped(s.force[i, 1], vel[i, 1], alpha) * p.inv_mass[i] * kick
+    if fx & 4:
+        omega[i] = p.velocity_bc[i, 2]
+    else:
+        omega[i] += damped(s.force[i, 2], omega[i], alpha) * p.inv_inertia[i] * kick
+    v_max = 0.1 * p.radius[i] / dt
+    if not (vel[i, 0] * vel[i, 0] + vel[i, 1] * vel[i, 1] <= v_max * v_max
+            and abs(omega[i]) * dt <= 0.1):             # also catches NaN
+        return UNSTABLE
+    s.pos[i, 0] += vel[i, 0] * dt
+    s.pos[i, 1] += vel[i, 1] * dt
+    s.theta[i] += omega[i] * dt
+    set_rotation(s.theta, s.rot, s.rot_half, i)
+    left = half_margin - abs(s.theta[i] - s.theta_search[i]) * p.radius[i]
+    dx, dy = s.pos[i, 0] - s.pos_search[i, 0], s.pos[i, 1] - s.pos_search[i, 1]
+    if left < 0.0 or dx * dx + dy * dy > left * left:
+        return NEED_SEARCH
+    return DONE
+
+
+# parallel=True without a prange: the same pipeline (and so the same machine arithmetic) as
+# the threaded ``advance_parallel`` below, as forces.add_contact_forces does
+@njit(cache=True, parallel=True)
 def advance(s, p, integ, kick):
     """Damp, integrate, turn and check every block (one pass over the blocks); returns
     (status, block).
@@ -96,39 +138,62 @@ def advance(s, p, integ, kick):
     a kinetic-damping stop); positions always move by v dt, and each block's ``rot`` and
     ``rot_half`` follow its new theta. The checks compare squares (no square roots): unstable
     when |v| dt > radius / 10 or |omega| dt > 0.1 (or NaN), before the block moves; a search is
-    needed when |x - x_search| + |theta - theta_search| radius exceeds half the margin.
+    needed when |x - x_search| + |theta - theta_search| radius exceeds half the margin. The
+    block named is the first unstable one, or the last that needs a search.
     """
-    dt, alpha, vel, omega = integ.dt, integ.damping, s.vel, s.omega
     status, bad = DONE, -1
     for i in range(s.pos.shape[0]):
         if not p.active[i]:
             continue
-        fx = p.fixity[i]
-        if fx & 1:
-            vel[i, 0] = p.velocity_bc[i, 0]
-        else:
-            vel[i, 0] += damped(s.force[i, 0], vel[i, 0], alpha) * p.inv_mass[i] * kick
-        if fx & 2:
-            vel[i, 1] = p.velocity_bc[i, 1]
-        else:
-            vel[i, 1] += damped(s.force[i, 1], vel[i, 1], alpha) * p.inv_mass[i] * kick
-        if fx & 4:
-            omega[i] = p.velocity_bc[i, 2]
-        else:
-            omega[i] += damped(s.force[i, 2], omega[i], alpha) * p.inv_inertia[i] * kick
-        v_max = 0.1 * p.radius[i] / dt
-        if not (vel[i, 0] * vel[i, 0] + vel[i, 1] * vel[i, 1] <= v_max * v_max
-                and abs(omega[i]) * dt <= 0.1):             # also catches NaN
+        code = _advance_block(i, s, p, integ.dt, integ.damping, kick, integ.half_margin)
+        if code == UNSTABLE:
             return UNSTABLE, i
-        s.pos[i, 0] += vel[i, 0] * dt
-        s.pos[i, 1] += vel[i, 1] * dt
-        s.theta[i] += omega[i] * dt
-        set_rotation(s.theta, s.rot, s.rot_half, i)
-        left = integ.half_margin - abs(s.theta[i] - s.theta_search[i]) * p.radius[i]
-        dx, dy = s.pos[i, 0] - s.pos_search[i, 0], s.pos[i, 1] - s.pos_search[i, 1]
-        if left < 0.0 or dx * dx + dy * dy > left * left:
+        if code == NEED_SEARCH:
             status, bad = NEED_SEARCH, i
     return status, bad
+
+
+@njit(cache=True, parallel=True)
+def advance_range(s, p, integ, kick, i0, i1):
+    """``advance`` of blocks i0 <= i < i1; returns (first unstable block or -1, last block
+    that needs a search or -1). A chunk of ``advance_parallel``: compiled on its own, as
+    ``advance`` is, so both do the same machine arithmetic (an inlined prange body did not)."""
+    first_unstable, last_search = -1, -1
+    for i in range(i0, i1):
+        if not p.active[i]:
+            continue
+        code = _advance_block(i, s, p, integ.dt, integ.damping, kick, integ.half_margin)
+        if code == UNSTABLE:
+            if first_unstable < 0:
+                first_unstable = i
+        elif code == NEED_SEARCH:
+            last_search = i
+    return first_unstable, last_search
+
+
+# chunks of ``advance_parallel`` (a chunk is one call, a thread's unit of work), and the
+# fewest blocks in a chunk
+ADVANCE_CHUNKS, MIN_ADVANCE_CHUNK = 16, 256
+
+
+@njit(cache=True, parallel=True)
+def advance_parallel(s, p, integ, kick):
+    """``advance`` on the threads, by chunks of blocks: every block the same numbers. Differs
+    only when a block is unstable: the blocks after the first unstable one have moved too (the
+    run stops there)."""
+    nb = s.pos.shape[0]
+    chunk = max(MIN_ADVANCE_CHUNK, -(-nb // ADVANCE_CHUNKS))
+    first_unstable, last_search = nb, -1
+    for j in prange(-(-nb // chunk)):
+        u, n = advance_range(s, p, integ, kick, j * chunk, min(nb, (j + 1) * chunk))
+        if u >= 0:
+            first_unstable = min(first_unstable, u)
+        last_search = max(last_search, n)
+    if first_unstable < nb:
+        return UNSTABLE, first_unstable
+    if last_search >= 0:
+        return NEED_SEARCH, last_search
+    return DONE, -1
 
 
 @njit(cache=True)
