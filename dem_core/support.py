@@ -18,6 +18,7 @@ elements (cable, liner); Farmer (1975) for the grouted bar's axial force decay.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -44,7 +45,8 @@ def _not_negative(where, **values):
 
 @dataclass(frozen=True)
 class Cable:
-    """A grouted cable or bolt from ``collar`` to ``end`` ((x, y) m, both in rock).
+    """A grouted cable or bolt from ``collar`` to ``end`` ((x, y) m, both in rock; one that
+    lies in a gap at installation moves along the cable into rock, ``_into_rock``).
 
     area (m^2), E (Pa): the steel; yield_tension, yield_compression (N, default the tension
     value): axial yield forces; rupture_strain: total strain at which a segment breaks;
@@ -244,18 +246,44 @@ def _body(model, host, xy):
     return np.column_stack([c * d[:, 0] + sn * d[:, 1], -sn * d[:, 0] + c * d[:, 1]])
 
 
+# how far along a cable (fraction of its length) a collar or end in a gap moves into rock
+REACH_INTO_ROCK = 0.1
+
+
+def _into_rock(tree, a, b, name):
+    """``a`` if it lies in an active block, else the first point from ``a`` towards ``b``
+    (sampled every 1/200 of the cable, up to ``REACH_INTO_ROCK`` of it) that does: the hole
+    starts where the rock does (a face block that slid away before the installation, a joint
+    opened at the collar). The move is reported by a warning; beyond the reach, a ValueError."""
+    d = np.linspace(0.0, REACH_INTO_ROCK, int(200 * REACH_INTO_ROCK) + 1)
+    pts = a + d[:, None] * (b - a)
+    host = _hosts(tree, pts)
+    if host[0] >= 0:
+        return a
+    inside = np.flatnonzero(host >= 0)
+    if not len(inside):
+        raise ValueError(f"cable: the {name} {tuple(a)} is not inside any active block, nor "
+                         f"any point within {REACH_INTO_ROCK:.0%} of the cable from it (a cable "
+                         "starts and ends in rock)")
+    moved = pts[inside[0]]
+    warnings.warn(f"cable: the {name} {tuple(a)} is in a gap between blocks; moved "
+                  f"{float(np.hypot(*(moved - a))):.3g} m along the cable into rock, to "
+                  f"{tuple(moved)}", stacklevel=4)
+    return moved
+
+
 def _cable_arrays(model, cab: Cable, tree) -> dict:
     collar, end = np.asarray(cab.collar, float), np.asarray(cab.end, float)
+    collar, end = _into_rock(tree, collar, end, "collar"), _into_rock(tree, end, collar, "end")
     length = float(np.hypot(*(end - collar)))
     h = cab.segment_length or float(np.median(model.props.radius[model.props.active > 0]))
     nseg = max(2, int(math.ceil(length / h - 1e-9)))
     t = np.linspace(0.0, 1.0, nseg + 1)
     xy = collar + t[:, None] * (end - collar)
     host = _hosts(tree, xy)
-    for name, i in (("collar", 0), ("end", nseg)):
-        if host[i] < 0:
-            raise ValueError(f"cable: the {name} {tuple(xy[i])} is not inside any active block "
-                             "(a cable starts and ends in rock)")
+    if host[0] < 0 or host[-1] < 0:          # (only by round-off on a block's edge)
+        raise ValueError(f"cable: the collar {tuple(xy[0])} or end {tuple(xy[-1])} is not "
+                         "inside any active block")
     lseg = length / nseg
     trib = np.full(nseg + 1, lseg)
     trib[[0, -1]] = 0.5 * lseg

@@ -193,6 +193,23 @@ def test_support_as_stages_of_a_scene_file():
     assert recs[0].kind == "cable" and recs[0].detail["nodes"] == m.cables.node_pos.shape[0]
 
 
+def test_a_collar_in_a_gap_moves_along_the_cable_into_rock():
+    """The free block slid 0.3 m away from the fixed one before the cable went in: a collar
+    set in the gap moves along the cable to the block's new face (the hole starts there)."""
+    props = dict(area=5e-4, E=200e9, yield_tension=1e7, grout_stiffness=1e8,
+                 grout_strength=1e9, segment_length=0.1)
+    m = two_blocks()
+    m.state.pos[1, 0] += 0.3                 # the free block now spans 5.3 .. 10.3 m
+    with pytest.warns(UserWarning, match=r"collar .* moved 0\.2[89]"):
+        m.install(Cable((5.02, 1.0), (9.5, 1.0), **props))
+    assert m.cables.node_pos[0, 0] == pytest.approx(5.3, abs=0.025)   # the block's face
+    assert m.cables.node_pos[-1, 0] == pytest.approx(9.5)
+    m2 = two_blocks()
+    m2.state.pos[1, 0] += 1.5                # a gap wider than a tenth of the cable
+    with pytest.raises(ValueError, match="collar .* not inside any active block"):
+        m2.install(Cable((5.1, 1.0), (9.5, 1.0), **props))
+
+
 @pytest.mark.parametrize("change, message", [
     (dict(collar=(-3.0, 1.0)), "collar"),
     (dict(area=0.0), "area"),
