@@ -25,6 +25,7 @@ from .components import exposed_faces, gravity_bundle, loads_bundle, servo_bundl
 from .contacts import initial_contacts, surface_materials
 from .elastic import series_stiffness
 from .materials import Material, material_table
+from . import parallel
 from .parallel import no_parallel, parallel_bundle
 from .water import WaterTable
 from .state import (FIX_ROT, FIX_X, FIX_Y, CrackLog, Integrator, block_props,
@@ -71,8 +72,10 @@ class Model:
     history_every : int
         Steps between history records.
     threads : int
-        Threads for the contact forces (1: the serial kernel; more: ``dem_core.parallel``,
-        bit-for-bit the same results). At most numba's thread count (the cores).
+        Threads for the contact forces and the integration (1: the serial kernels; more:
+        ``dem_core.parallel`` and ``step.advance_parallel``, bit-for-bit the same results,
+        used from ``parallel.MIN_CONTACTS`` live contacts up: below that one thread is
+        faster). At most numba's thread count (the cores).
     kinetic_damping : int
         Dynamic relaxation: every ``kinetic_damping`` steps (0: off) compare the kinetic energy
         with the last check and zero all free velocities when it has fallen (a kinetic-energy
@@ -519,7 +522,7 @@ class Model:
 
     def _parallel(self):
         """Scratch and the block -> contact table for the threaded kernel (empty: serial)."""
-        if self.threads <= 1:
+        if self.threads <= 1 or self.contacts.n < parallel.MIN_CONTACTS:
             return no_parallel()
         import numba
         numba.set_num_threads(self.threads)

@@ -13,7 +13,8 @@ it goes: in a parallel loop that is a write race. Here the work is split in thre
    the block's force first (the step's zeroing, in the same pass).
 
 Each block sums the same numbers in the same order as the serial kernel, so the results are
-identical (tests/test_mech_parallel.py). Used when ``Model(threads=n)`` with n > 1.
+identical (tests/test_mech_parallel.py). Used when ``Model(threads=n)`` with n > 1 and the
+model has at least ``MIN_CONTACTS`` live contacts.
 """
 from __future__ import annotations
 
@@ -103,6 +104,11 @@ def contact_range(c, strength, s, work, events, k0, k1):
         work[k, 3] = ya
     return failures
 
+
+# below this many live contacts ``Model(threads=n)`` runs the serial kernels (same results):
+# thread start-up and the per-contact scratch cost more than a second core gives there (two
+# threads: 0.37x one at 6,020 contacts, 1.25x at 61,702; benchmarks/two_threads.py)
+MIN_CONTACTS = 30_000
 
 # chunks of the first pass per thread (a chunk is one call, and a thread's unit of work), and
 # the fewest contacts in a chunk

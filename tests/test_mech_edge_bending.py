@@ -43,7 +43,8 @@ def test_a_bonded_edge_breaks_at_the_elastic_moment(factor, breaks):
     assert (m.crack_counts()["tension"] > 0) == breaks
 
 
-def test_the_threaded_kernel_gives_the_same_bits_with_edge_elements():
+def test_the_threaded_kernel_gives_the_same_bits_with_edge_elements(monkeypatch):
+    monkeypatch.setattr("dem_core.parallel.MIN_CONTACTS", 0)     # a small model, threaded
     a, b = pair(1), pair(2)
     for m in (a, b):
         m.apply_load("free", fx=1e3, moment=0.3 * T * L ** 2 / 6)
