@@ -82,9 +82,10 @@ VARIANTS = {
                   t_levels=(1.5, 1.0, 0.65, 0.35, 0.1, 0.0), support=True, shotcrete=True,
                   weathering=True, conventional=True, continuum=True, continuum_h=20.0,
                   continuum_window=None, workers=2),
-    # full: the whole 4000 m x 3100 m section, 1.3 m flaws near the cut (4,310 blocks),
-    # Table 7.4's UCS set; not run: 1.55 ms a step measured, at most 710,000 steps a member,
-    # nine members on two workers: about 1.5 hours (docs/cases/checkerboard.md)
+    # full: the whole 4000 m x 3100 m section, 1.3 m flaws near the cut (4,644 blocks),
+    # Table 7.4's UCS set; 17-32 minutes a member on two workers. Run 2026-11-26: the section
+    # breaks 8,000-13,000 bonds when the weathered strengths are set, before T is lowered, so
+    # it is no back-analysis yet (docs/cases/checkerboard.md, "Full variant")
     "full": dict(params=dict(edge_length=1.3), ucs=[76e6, 60e6, 50e6, 40e6, 30e6],
                  base_steps=150_000, level_steps=20_000, t_levels=T_LEVELS, support=True,
                  shotcrete=True, weathering=True,
