@@ -94,42 +94,7 @@ def run_steps(nsteps, time, integ, s, p, c, strength, cracks, par, gravity, load
     return nsteps, time, DONE, -1
 
 
-@njit(cache=True, inline="always")
-def _advance_block(i, s, p, dt, alpha, kick, half_margin):
-    """Damp, integrate, turn and check block i; returns DONE, NEED_SEARCH or UNSTABLE (then
-    block i has not moved). ``advance`` states the rules."""
-    vel, omega = s.vel, s.omega
-    fx = p.fixity[i]
-    if fx & 1:
-        vel[i, 0] = p.velocity_bc[i, 0]
-    else:
-        vel[i, 0] += damped(s.force[i, 0], vel[i, 0], alpha) * p.inv_mass[i] * kick
-    if fx & 2:
-        vel[i, 1] = p.velocity_bc[i, 1]
-    else:
-        vel[i, 1] += damped(s.force[i, 1], vel[i, 1], alpha) * p.inv_mass[i] * kick
-    if fx & 4:
-        omega[i] = p.velocity_bc[i, 2]
-    else:
-        omega[i] += damped(s.force[i, 2], omega[i], alpha) * p.inv_inertia[i] * kick
-    v_max = 0.1 * p.radius[i] / dt
-    if not (vel[i, 0] * vel[i, 0] + vel[i, 1] * vel[i, 1] <= v_max * v_max
-            and abs(omega[i]) * dt <= 0.1):             # also catches NaN
-        return UNSTABLE
-    s.pos[i, 0] += vel[i, 0] * dt
-    s.pos[i, 1] += vel[i, 1] * dt
-    s.theta[i] += omega[i] * dt
-    set_rotation(s.theta, s.rot, s.rot_half, i)
-    left = half_margin - abs(s.theta[i] - s.theta_search[i]) * p.radius[i]
-    dx, dy = s.pos[i, 0] - s.pos_search[i, 0], s.pos[i, 1] - s.pos_search[i, 1]
-    if left < 0.0 or dx * dx + dy * dy > left * left:
-        return NEED_SEARCH
-    return DONE
-
-
-# parallel=True without a prange: the same pipeline (and so the same machine arithmetic) as
-# the threaded ``advance_parallel`` below, as forces.add_contact_forces does
-@njit(cache=True, parallel=True)
+@njit(cache=True)
 def advance(s, p, integ, kick):
     """Damp, integrate, turn and check every block (one pass over the blocks); returns
     (status, block).
@@ -137,38 +102,57 @@ def advance(s, p, integ, kick):
     ``kick`` (s): the time of the velocity update (``dt``, or ``dt / 2`` on the first step after
     a kinetic-damping stop); positions always move by v dt, and each block's ``rot`` and
     ``rot_half`` follow its new theta. The checks compare squares (no square roots): unstable
-    when |v| dt > radius / 10 or |omega| dt > 0.1 (or NaN), before the block moves; a search is
-    needed when |x - x_search| + |theta - theta_search| radius exceeds half the margin. The
-    block named is the first unstable one, or the last that needs a search.
+    when |v| dt > radius / 10 or |omega| dt > 0.1 (or NaN), before the block moves (the pass
+    stops there); a search is needed when |x - x_search| + |theta - theta_search| radius
+    exceeds half the margin. The block named is the unstable one, or the last that needs a
+    search.
     """
-    status, bad = DONE, -1
-    for i in range(s.pos.shape[0]):
-        if not p.active[i]:
-            continue
-        code = _advance_block(i, s, p, integ.dt, integ.damping, kick, integ.half_margin)
-        if code == UNSTABLE:
-            return UNSTABLE, i
-        if code == NEED_SEARCH:
-            status, bad = NEED_SEARCH, i
-    return status, bad
+    unstable, search = advance_range(s, p, integ, kick, 0, s.pos.shape[0])
+    if unstable >= 0:
+        return UNSTABLE, unstable
+    if search >= 0:
+        return NEED_SEARCH, search
+    return DONE, -1
 
 
-@njit(cache=True, parallel=True)
+# One compiled loop for the serial pass and for each chunk of the threaded one, so both do the
+# same machine arithmetic. (Written out, not through an inlined per-block helper taking the
+# bundles: that made the serial step about 15 % slower, benchmarks/throughput.py.)
+@njit(cache=True)
 def advance_range(s, p, integ, kick, i0, i1):
-    """``advance`` of blocks i0 <= i < i1; returns (first unstable block or -1, last block
-    that needs a search or -1). A chunk of ``advance_parallel``: compiled on its own, as
-    ``advance`` is, so both do the same machine arithmetic (an inlined prange body did not)."""
-    first_unstable, last_search = -1, -1
+    """``advance`` of blocks i0 <= i < i1; returns (the first unstable block, which stops the
+    pass before it moves, or -1; the last block that needs a search, or -1)."""
+    dt, alpha, vel, omega = integ.dt, integ.damping, s.vel, s.omega
+    search = -1
     for i in range(i0, i1):
         if not p.active[i]:
             continue
-        code = _advance_block(i, s, p, integ.dt, integ.damping, kick, integ.half_margin)
-        if code == UNSTABLE:
-            if first_unstable < 0:
-                first_unstable = i
-        elif code == NEED_SEARCH:
-            last_search = i
-    return first_unstable, last_search
+        fx = p.fixity[i]
+        if fx & 1:
+            vel[i, 0] = p.velocity_bc[i, 0]
+        else:
+            vel[i, 0] += damped(s.force[i, 0], vel[i, 0], alpha) * p.inv_mass[i] * kick
+        if fx & 2:
+            vel[i, 1] = p.velocity_bc[i, 1]
+        else:
+            vel[i, 1] += damped(s.force[i, 1], vel[i, 1], alpha) * p.inv_mass[i] * kick
+        if fx & 4:
+            omega[i] = p.velocity_bc[i, 2]
+        else:
+            omega[i] += damped(s.force[i, 2], omega[i], alpha) * p.inv_inertia[i] * kick
+        v_max = 0.1 * p.radius[i] / dt
+        if not (vel[i, 0] * vel[i, 0] + vel[i, 1] * vel[i, 1] <= v_max * v_max
+                and abs(omega[i]) * dt <= 0.1):             # also catches NaN
+            return i, search
+        s.pos[i, 0] += vel[i, 0] * dt
+        s.pos[i, 1] += vel[i, 1] * dt
+        s.theta[i] += omega[i] * dt
+        set_rotation(s.theta, s.rot, s.rot_half, i)
+        left = integ.half_margin - abs(s.theta[i] - s.theta_search[i]) * p.radius[i]
+        dx, dy = s.pos[i, 0] - s.pos_search[i, 0], s.pos[i, 1] - s.pos_search[i, 1]
+        if left < 0.0 or dx * dx + dy * dy > left * left:
+            search = i
+    return -1, search
 
 
 # chunks of ``advance_parallel`` (a chunk is one call, a thread's unit of work), and the
@@ -178,9 +162,9 @@ ADVANCE_CHUNKS, MIN_ADVANCE_CHUNK = 16, 256
 
 @njit(cache=True, parallel=True)
 def advance_parallel(s, p, integ, kick):
-    """``advance`` on the threads, by chunks of blocks: every block the same numbers. Differs
-    only when a block is unstable: the blocks after the first unstable one have moved too (the
-    run stops there)."""
+    """``advance`` on the threads, by chunks of blocks (``advance_range``): every block the
+    same numbers. Differs only when a block is unstable: the blocks of the other chunks have
+    moved (the run stops there)."""
     nb = s.pos.shape[0]
     chunk = max(MIN_ADVANCE_CHUNK, -(-nb // ADVANCE_CHUNKS))
     first_unstable, last_search = nb, -1
