@@ -20,7 +20,8 @@ One step (``run_steps`` loops it inside numba, no Python in between)::
 
 With threads (``Model(threads=n)``, a non-empty ``Parallel`` bundle) the contact forces run
 ``parallel.add_contact_forces_parallel`` (which also zeroes f, block by block) and the damping
-and integration ``advance_parallel``: the same numbers for every block, bit for bit.
+and integration ``advance_parallel`` (from ``MIN_THREADED_BLOCKS`` blocks up): the same
+numbers for every block, bit for bit.
 
 Velocities live at half steps (t - dt/2, t + dt/2), positions at whole steps. With alpha = 0 the
 scheme is symplectic: energy oscillates by O((omega dt)^2) and does not drift.
@@ -81,7 +82,7 @@ def run_steps(nsteps, time, integ, s, p, c, strength, cracks, par, gravity, load
         servo_velocities(servo, s, p)
         kick = 0.5 * integ.dt if integ.kinetic[2] != 0.0 else integ.dt
         integ.kinetic[2] = 0.0
-        if par.offsets.shape[0] == 0:
+        if par.offsets.shape[0] == 0 or s.pos.shape[0] < MIN_THREADED_BLOCKS:
             status, bad = advance(s, p, integ, kick)
         else:
             status, bad = advance_parallel(s, p, integ, kick)
@@ -154,6 +155,11 @@ def advance_range(s, p, integ, kick, i0, i1):
             search = i
     return -1, search
 
+
+# the threaded integration pass from this many blocks up: below it the start of a parallel
+# region (about 60 us with numba's TBB layer on the 2-core VM) costs more than the pass
+# (0.17 ms at 10,834 blocks on one thread, 0.18 ms on two; benchmarks/two_threads.py)
+MIN_THREADED_BLOCKS = 30_000
 
 # chunks of ``advance_parallel`` (a chunk is one call, a thread's unit of work), and the
 # fewest blocks in a chunk

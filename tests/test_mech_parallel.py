@@ -34,3 +34,29 @@ def test_threaded_kernel_is_bit_for_bit_serial(monkeypatch):
 def test_thread_count_is_checked():
     with pytest.raises(ValueError, match="threads"):
         _run(0)
+
+
+@pytest.mark.skipif(numba.config.NUMBA_NUM_THREADS < 2, reason="needs 2 threads")
+def test_threaded_integration_pass_is_bit_for_bit_serial():
+    """``step.advance_parallel`` (used from MIN_THREADED_BLOCKS blocks up) moves every block
+    as ``step.advance`` does: five steps of random forces on a specimen of several chunks."""
+    from dem_core.state import copy_bundle
+    from dem_core.step import advance, advance_parallel
+    bs = build_block_system(GeometrySpec(
+        [rectangle("rock", 0, 0, 0.3, 0.15), rectangle("base", 0, -0.01, 0.3, 0)],
+        voronoi={"rock": Voronoi(edge_length=0.004, seed=2)}))      # ~1,000 blocks: 4 chunks
+    flaw = Material(kn=1e10, ks=5e9, tensile_strength=2e4, cohesion=4e4, friction=35)
+    model = Model(bs, {"flaw:*": flaw, "boundary:*": flaw}, density=2500.0)
+    model.fix("base")
+    numba.set_num_threads(2)
+    one, two = copy_bundle(model.state), copy_bundle(model.state)
+    integ = model._integrator()
+    for _ in range(5):
+        model.state.force[:] = np.random.default_rng(0).normal(size=model.state.force.shape)
+        for s in (one, two):
+            s.force[:] = model.state.force
+        assert advance(one, model.props, integ, integ.dt) == \
+            advance_parallel(two, model.props, integ, integ.dt)
+    assert model.n_blocks > 2 * 256 and np.abs(one.omega).max() > 0
+    for name in ("pos", "theta", "rot", "rot_half", "vel", "omega"):
+        assert np.array_equal(getattr(one, name), getattr(two, name)), name
