@@ -83,7 +83,7 @@ VARIANTS = {
                   weathering=True, conventional=True, continuum=True, continuum_h=20.0,
                   continuum_window=None, workers=2),
     # full: the whole 4000 m x 3100 m section, 1.3 m flaws near the cut (4,644 blocks),
-    # Table 7.4's UCS set; 17-32 minutes a member on two workers. Run 2026-11-26: the section
+    # Table 7.4's UCS set; 17-32 minutes a member on two workers. Run 2026-11-26: the cut zone
     # breaks 8,000-13,000 bonds when the weathered strengths are set, before T is lowered, so
     # it is no back-analysis yet (docs/cases/checkerboard.md, "Full variant")
     "full": dict(params=dict(edge_length=1.3), ucs=[76e6, 60e6, 50e6, 40e6, 30e6],
