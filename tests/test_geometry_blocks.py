@@ -199,3 +199,16 @@ def test_spec_json_round_trip_rebuilds_identical_blocks():
     assert np.array_equal(a.vertices, b.vertices)
     assert a.material_names == b.material_names and "joint:fault" in a.material_names
     assert np.array_equal(a.groups["toe"], b.groups["toe"])
+
+
+def test_a_region_piece_smaller_than_half_a_cell_is_one_block():
+    """A piece of a region whose area rounds to zero cells (a sliver of a unit cut off by a
+    zone or fault line) gets one seed and becomes one cell, not a hole (with no seed the build
+    failed inside the cell construction)."""
+    from dem_core.geometry import tessellate
+    piece = shapely.box(0.0, 0.0, 0.3, 0.3)
+    xy = tessellate.seeds(piece, [], Voronoi(1.0, seed=1))
+    assert len(xy) == 1
+    inside, clipped = tessellate.voronoi_cells(piece, xy)
+    cells = list(inside) + list(clipped)
+    assert len(cells) == 1 and cells[0].area == pytest.approx(0.09, rel=1e-9)

@@ -159,6 +159,8 @@ def _fan_centroids(pts, s, cc, vs):
 def cell_polygons(pts, s, cc, idx) -> np.ndarray:
     """shapely polygons (CCW) of the Voronoi cells of points ``idx`` (bounded cells only)."""
     idx = np.asarray(idx)
+    if len(idx) == 0:
+        return np.zeros(0, dtype=object)
     flat = s.ravel()
     want = np.zeros(len(pts), bool)
     want[idx] = True
@@ -240,7 +242,9 @@ def seeds(poly, joint_pieces, vs) -> np.ndarray:
     """All seeds of the region: fixed rows first, then the relaxed free seeds."""
     rng = np.random.default_rng(vs.seed)
     fixed = fixed_seeds(poly, joint_pieces, vs)
-    n_free = max(0, int(round(target_cell_count(poly, vs, rng) - len(fixed))))
+    # a region piece smaller than half a cell still gets its one block (0 seeds: a hole)
+    n_free = max(0 if len(fixed) else 1,
+                 int(round(target_cell_count(poly, vs, rng) - len(fixed))))
     free = random_points(poly, n_free, rng, vs) if n_free else np.zeros((0, 2))
     free = free[_snake_order(free, vs.edge_length * 4.0)]  # locality speeds up Qhull
     if len(free) and vs.relax_iterations:
