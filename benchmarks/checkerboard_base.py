@@ -6,6 +6,7 @@ water table, each solved), for one extent, flaw size, cut height and UCS.
     python benchmarks/checkerboard_base.py --extent window --edge 1.3     # quick window
     python benchmarks/checkerboard_base.py --extent section --edge 1.3 --cut 50
     python benchmarks/checkerboard_base.py --extent section --edge 1.3 --edge-elements
+    python benchmarks/checkerboard_base.py --extent section --edge 1.3 --insitu 0.37
 
 Prints one line per solved stage (verdict, steps, cracks so far, the monitoring points'
 displacement in m, seconds) and a JSON line at the end. The quick variant's model is
@@ -28,6 +29,9 @@ def main():
     ap.add_argument("--cut", type=float, default=70.0, help="cut height, m")
     ap.add_argument("--ucs", type=float, default=60.0, help="MPa")
     ap.add_argument("--steps", type=int, default=150_000, help="step limit of each solve")
+    ap.add_argument("--insitu", type=float, default=None, metavar="K",
+                    help="start from the geostatic field sv = rho g depth, sh = K sv "
+                         "(dem_core.insitu.InSitu) before the gravity stage")
     ap.add_argument("--edge-elements", action="store_true",
                     help="each shared edge one linear element (Model(edge_elements=True))")
     a = ap.parse_args()
@@ -40,12 +44,16 @@ def main():
     common = dict(cbk._COMMON) if a.extent == "window" else {}
     p = scene.CheckerboardParams(**dict(common, edge_length=a.edge, cut_height=a.cut,
                                         ucs=a.ucs * 1e6))
-    sc = scene.scene(p, scene.base_stages(p, a.steps))
+    stages = scene.base_stages(p, a.steps)
+    if a.insitu is not None:
+        from dem_core.insitu import InSitu
+        stages = [InSitu.geostatic(scene.DENSITY, a.insitu)] + stages
+    sc = scene.scene(p, stages)
     if a.edge_elements:
         sc = dataclasses.replace(sc, solver=dict(sc.solver, edge_elements=True))
     m = build_model(sc)
     print(f"{a.extent}, {a.edge} m flaws, cut {a.cut} m, UCS {a.ucs} MPa, edge elements "
-          f"{a.edge_elements}: {m.n_blocks} blocks, "
+          f"{a.edge_elements}, in-situ k {a.insitu}: {m.n_blocks} blocks, "
           f"{m.contacts.n} contacts", flush=True)
     t0 = time.time()
     out = []
@@ -57,7 +65,7 @@ def main():
             out.append(dict(kind=r.kind, verdict=r.verdict, steps=r.steps, cracks=r.cracks,
                             points=pts))
     print(json.dumps(dict(extent=a.extent, edge=a.edge, cut=a.cut, ucs=a.ucs,
-                          edge_elements=a.edge_elements,
+                          edge_elements=a.edge_elements, insitu_k=a.insitu,
                           blocks=int(m.n_blocks), stages=out,
                           seconds=round(time.time() - t0)), default=str))
 
