@@ -7,6 +7,16 @@ water table, each solved), for one extent, flaw size, cut height and UCS.
     python benchmarks/checkerboard_base.py --extent section --edge 1.3 --cut 50
     python benchmarks/checkerboard_base.py --extent section --edge 1.3 --edge-elements
     python benchmarks/checkerboard_base.py --extent section --edge 1.3 --insitu 0.37
+    python benchmarks/checkerboard_base.py --extent window --edge 1.3 --demand
+    python benchmarks/checkerboard_base.py --extent window --edge 1.3 --demand --joints-through
+
+``--demand``: after the gravity stage, the flaws' stress against their real strength (per
+material: contacts above T in tension and above c + sn tan(phi) in shear, the largest ratios,
+and where the contacts above their strength are), then the real strengths and the cracks after
+50, 200, 1,000, 3,000 and 8,000 steps; the water stage is not run. ``--joints-through``: an
+experiment, not the scene: the three joint sets cut every unit (the scene's joints stop at the
+base of the weathered zone, and a joint's end is a stress concentration), with the weathered
+joints' properties.
 
 Prints one line per solved stage (verdict, steps, cracks so far, the monitoring points'
 displacement in m, seconds) and a JSON line at the end. The quick variant's model is
@@ -34,6 +44,10 @@ def main():
                          "(dem_core.insitu.InSitu) before the gravity stage")
     ap.add_argument("--edge-elements", action="store_true",
                     help="each shared edge one linear element (Model(edge_elements=True))")
+    ap.add_argument("--demand", action="store_true",
+                    help="the flaws' demand against their real strength after gravity")
+    ap.add_argument("--joints-through", action="store_true",
+                    help="experiment: the joint sets cut the fresh rock too")
     a = ap.parse_args()
     warnings.simplefilter("ignore")        # (the scene's own notes)
     from comparisons import checkerboard as cbk
@@ -44,6 +58,8 @@ def main():
     common = dict(cbk._COMMON) if a.extent == "window" else {}
     p = scene.CheckerboardParams(**dict(common, edge_length=a.edge, cut_height=a.cut,
                                         ucs=a.ucs * 1e6))
+    if a.joints_through:
+        _joints_through(scene)
     stages = scene.base_stages(p, a.steps)
     if a.insitu is not None:
         from dem_core.insitu import InSitu
@@ -53,9 +69,12 @@ def main():
         sc = dataclasses.replace(sc, solver=dict(sc.solver, edge_elements=True))
     m = build_model(sc)
     print(f"{a.extent}, {a.edge} m flaws, cut {a.cut} m, UCS {a.ucs} MPa, edge elements "
-          f"{a.edge_elements}, in-situ k {a.insitu}: {m.n_blocks} blocks, "
+          f"{a.edge_elements}, in-situ k {a.insitu}, joints through {a.joints_through}: "
+          f"{m.n_blocks} blocks, "
           f"{m.contacts.n} contacts", flush=True)
     t0 = time.time()
+    if a.demand:
+        return demand(m, sc.stages, scene.materials(p), t0)
     out = []
     for r in run_stages(m, sc.stages, progress=lambda *x, **k: None):
         if r.steps:
@@ -68,6 +87,83 @@ def main():
                           edge_elements=a.edge_elements, insitu_k=a.insitu,
                           blocks=int(m.n_blocks), stages=out,
                           seconds=round(time.time() - t0)), default=str))
+
+
+def _joints_through(scene):
+    """Replace the scene's joint sets by the same three sets cutting every unit."""
+    from dem_core.geometry import JointSet
+
+    def joint_sets(p, names):
+        gneiss = [n for n in names if "gneiss" in scene.unit_of(n)]
+        return [JointSet("vertical", 85.0, p.vertical_spacing, dip_direction="left",
+                         origin=scene.TOE, regions=list(names)),
+                JointSet("cross_shears", 65.0, p.shear_spacing, dip_direction="right",
+                         origin=scene.TOE, offset=0.5 * p.vertical_spacing, regions=list(names)),
+                JointSet("gneiss_shears", 70.0, p.shear_spacing, dip_direction="left",
+                         origin=scene.TOE, offset=0.25 * p.shear_spacing, regions=gneiss)]
+    scene.joint_sets = joint_sets
+
+
+def strength_ratios(m, real):
+    """Per breakable material: (rows, tension ratio -sn / T, shear ratio |ts| / (c + sn tan
+    phi)) of its intact contacts against the ``real`` strengths (sn compression +)."""
+    import numpy as np
+
+    c, n = m.contacts, m.contacts.n
+    names = list(m.blocks.material_names)
+    out = {}
+    for name, mat in real.items():
+        if name not in names or not mat.tensile_strength > 0:
+            continue
+        rows = np.flatnonzero((c.material[:n] == names.index(name)) & (c.broken[:n] == 0))
+        sn, ts = c.sn[rows], np.abs(c.ts[rows])
+        rt = np.where(sn < 0, -sn / mat.tensile_strength, 0.0)
+        rs = ts / (mat.cohesion + np.maximum(sn, 0.0) * np.tan(np.radians(mat.friction)))
+        out[name] = (rows, rt, rs)
+    return out
+
+
+def demand(m, stages, real, t0):
+    """The --demand run (module docstring)."""
+    import numpy as np
+
+    from dem_core.stages import ChangeMaterial
+
+    i = 0
+    while True:                             # up to and with the gravity stage's solve
+        steps, verdict, _ = stages[i].run(m)
+        i += 1
+        if steps:
+            break
+    moved = {k: [round(float(x), 2) for x in m.point_motion(k)[:2]] for k in m.points}
+    print(f"  gravity at high strength: {verdict}, {steps} steps, {moved}", flush=True)
+    rows = {}
+    for name, (r, rt, rs) in strength_ratios(m, real).items():
+        c = m.contacts
+        xy = 0.5 * (m.state.pos[c.block_a[r]] + m.state.pos[c.block_b[r]])
+        over = np.flatnonzero(np.maximum(rt, rs) > 1.0)
+        rows[name] = dict(contacts=int(r.size), above_T=int((rt > 1).sum()),
+                          above_shear=int((rs > 1).sum()), above_half=int(
+                              (np.maximum(rt, rs) > 0.5).sum()),
+                          max_tension_ratio=round(float(rt.max()), 2),
+                          max_shear_ratio=round(float(rs.max()), 2),
+                          where_above=[[round(float(x), 1) for x in xy[j]] +
+                                       [round(float(max(rt[j], rs[j])), 2)] for j in over])
+        print(f"  {name}: {json.dumps(rows[name])}", flush=True)
+    n0 = int(m.cracks.count[0])
+    while isinstance(stages[i], ChangeMaterial):
+        stages[i].run(m)
+        i += 1
+    after = []
+    for k in (50, 150, 800, 2000, 5000):
+        m.cycle(k)
+        modes = m.cracks.rows[n0:int(m.cracks.count[0]), 3]
+        moved = {k: [round(float(x), 2) for x in m.point_motion(k)[:2]] for k in m.points}
+        after.append(dict(steps=int(m.step), tension=int((modes == 1).sum()),
+                          shear=int((modes == 2).sum()), points=moved))
+        print(f"  real strengths, step {m.step}: {json.dumps(after[-1])}", flush=True)
+    print(json.dumps(dict(demand=rows, after_real_strengths=after,
+                          seconds=round(time.time() - t0))), flush=True)
 
 
 if __name__ == "__main__":
