@@ -17,6 +17,7 @@ is the thesis's claim itself (larger / smaller, fails / stands):
 - Table 7.4's trend: T at failure is higher at UCS 50 and 30 than at 76 MPa. 76 -> 50 held
   in a finer plan too (13 levels, 8000 steps); 76 -> 30 reversed there (docs): for 30 MPa a
   regression guard of the quick numbers more than proof of the trend;
+- Table 7.4's magnitude (strict xfail): T at failure 0.025 MPa at UCS 76;
 - weathering (strict xfail): more fracturing than the strength loss, and only the cut moving
   on after the release.
 """
@@ -57,6 +58,18 @@ def test_t_at_failure_rises_as_ucs_falls(quick):
     rows = {r["ucs_MPa"]: r["t_failure_MPa"] for r in quick.methods["dem"]["back_analysis"]}
     assert all(t is not None for t in rows.values())
     assert rows[50.0] > rows[76.0] and rows[30.0] > rows[76.0]
+
+
+@pytest.mark.xfail(strict=True, reason="measured: T at failure 0.35 MPa at UCS 76 (quick), 14 x "
+                   "the thesis's: rigid Voronoi blocks carry tension under their own weight "
+                   "(1 % of contacts beyond 0.2 sv, 0.3 MPa at the weathered zone's base; "
+                   "benchmarks/gravity_box.py) and at the joints' ends and the toe, so a T of "
+                   "tens of kPa cracks the cut (docs/cases/checkerboard.md, 'Why 1.3 m flaws')")
+def test_t_at_failure_is_the_thesis_magnitude(quick):
+    """Table 7.4: at the weathered gneiss's own UCS (76 MPa) the cut fails at T = 0.025 MPa,
+    near the Hoek-Brown tensile strength; asserted within a factor of 2."""
+    rows = {r["ucs_MPa"]: r["t_failure_MPa"] for r in quick.methods["dem"]["back_analysis"]}
+    assert rows[76.0] is not None and 0.0125 <= rows[76.0] <= 0.05
 
 
 @pytest.mark.xfail(strict=True, reason="measured: without support the quick slope also stands "
