@@ -21,22 +21,28 @@ cores are closer than 2 d, along the line of the cores' nearest points. A vertex
                              (corner against corner: the line of the two centres),
                              else the next face's normal and distance
     s < 0:                   the same at the face's start with the previous face
+    corner against corner, but B's corner centre C projects onto one of A's two core faces
+    at the vertex (beyond x): B's corner against that face of A,
+                             x = the foot of C on it, n = A's outward face normal,
+                             u_n = (C - x) . n - 2 d
 
 n is the unit normal from A into B, u_n the opening (m, > 0 open, < 0 overlap) between the
-rounded shapes. n turns continuously: where the face ends (s = |C_f - C_e|) the line of
-centres is the face's normal, and at the far side of the corner's wedge it is the next face's.
-The force acts on A's arc, at x + d n; the shear displacement is measured between A's corner
-centre and B's point of the contact (``Contacts.point_b``, moved across the normal from the
-centre when the contact slips or opens), along t = (-n_y, n_x).
+rounded shapes, x the nearest point of A's core. n turns continuously: where the face ends
+(s = |C_f - C_e|) the line of centres is the face's normal, at the far side of the corner's
+wedge it is the next face's, and where B's corner reaches A's face it is that face's. The force
+acts on A's rounded boundary, at x + d n; the shear displacement is measured between x and
+B's point of the contact (``Contacts.point_b``, moved across the normal from x when the
+contact slips or opens), along t = (-n_y, n_x). The same pair of touching corners gives one
+contact whichever block the search calls A (``detection``: touch points and normals).
 
 Which contacts: those of a vertex against a face (``Contacts.face`` = 0: made by the search).
 The two contacts of a shared edge (``face`` = 1) keep their bisector normal: two faces lying
 on one another touch along their straight parts, where rounding changes nothing. d = 0 (the
-default) is the sharp-cornered model, bit for bit: the kernels never read this bundle then.
+default) is the sharp-cornered model, bit for bit: the kernels read only the radius then.
 
 References: Cundall, P. A. (1988), Formulation of a three-dimensional distinct element model,
-Part I, Int. J. Rock Mech. Min. Sci. 25(3), 107-116 (rounded corners give every contact a
-unique normal); Itasca, UDEC manual, Theory and Background, sec. 1 (block corner rounding).
+Part I, Int. J. Rock Mech. Min. Sci. 25(3), 107-116 (contact detection and the normal at
+corners); Itasca, UDEC manual, Theory and Background (block corner rounding).
 UDEC's rounding length is given as the distance from a corner to its tangent points; here d
 is the arc's radius (the two are equal at a right angle; at a 120 degree Voronoi corner the
 tangent points lie d tan 30 deg = 0.58 d from the corner).
