@@ -53,15 +53,15 @@ def _loops():
     from dem_core.step import advance, advance_parallel
 
     @njit
-    def contacts_serial(n, c, strength, s, cracks):
+    def contacts_serial(n, c, strength, s, cracks, rnd):
         for _ in range(n):
             s.force[:] = 0.0
-            add_contact_forces(c, strength, s, cracks, 0.0, False)
+            add_contact_forces(c, strength, s, cracks, 0.0, rnd, False)
 
     @njit
-    def contacts_threaded(n, c, strength, s, cracks, par):
+    def contacts_threaded(n, c, strength, s, cracks, rnd, par):
         for _ in range(n):
-            add_contact_forces_parallel(c, strength, s, cracks, 0.0, par, False)
+            add_contact_forces_parallel(c, strength, s, cracks, 0.0, rnd, par, False)
 
     @njit
     def advance_serial(n, s, p, integ):
@@ -93,9 +93,10 @@ def parts(m, steps, loops):
     strength = m.table.strength_array()
     out = {}
     for name, fn, args in (
-            ("contacts_serial", contacts_serial, (m.contacts, strength, m.state, m.cracks)),
+            ("contacts_serial", contacts_serial,
+             (m.contacts, strength, m.state, m.cracks, m.corners)),
             ("contacts_threaded", contacts_threaded,
-             (m.contacts, strength, m.state, m.cracks, par)),
+             (m.contacts, strength, m.state, m.cracks, m.corners, par)),
             ("advance_serial", advance_serial, (m.state, m.props, integ)),
             ("advance_threaded", advance_threaded, (m.state, m.props, integ)),
             ("gravity", gravity, (g, m.state, m.props))):

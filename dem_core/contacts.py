@@ -34,6 +34,7 @@ import numpy as np
 from numba import njit
 
 from .kinematics import contact_normal
+from .rounding import is_rounded, no_rounding, rounded_contact
 
 __all__ = ["Contacts", "INTACT", "TENSION", "SHEAR", "UNBONDED", "ANCHOR_A", "ANCHOR_B",
            "ANCHOR_MID", "initial_contacts"]
@@ -163,11 +164,12 @@ class Contacts(NamedTuple):
         p = self.point_a[:self.n]
         return pos[a] + np.column_stack([c * p[:, 0] - s * p[:, 1], s * p[:, 0] + c * p[:, 1]])
 
-    def normal(self, s) -> np.ndarray:
+    def normal(self, s, rnd=None) -> np.ndarray:
         """(n, 2) world unit normal of each contact from A into B at the pose ``s``
-        (BlockState; ``kinematics.contact_normal``)."""
+        (BlockState; ``kinematics.contact_normal``; with rounded corners ``rnd``, a
+        ``rounding.Rounding``, that of the rounded shapes)."""
         out = np.empty((self.n, 2))
-        _normals(self, s, out)
+        _normals(self, s, no_rounding() if rnd is None else rnd, out)
         return out
 
     def to_dict(self) -> dict:
@@ -188,10 +190,15 @@ ARRAYS = tuple(f for f in Contacts._fields if f != "count")
 
 
 @njit(cache=True)
-def _normals(c, s, out):
+def _normals(c, s, rnd, out):
     for k in range(out.shape[0]):
-        out[k, 0], out[k, 1] = contact_normal(s, c.block_a[k], c.block_b[k], c.face[k],
-                                              c.normal_b[k, 0], c.normal_b[k, 1])
+        if is_rounded(rnd, c, k):
+            _, _, out[k, 0], out[k, 1], _ = rounded_contact(rnd, s, c.block_a[k],
+                                                            c.block_b[k], c.vertex_a[k],
+                                                            c.edge_b[k])
+        else:
+            out[k, 0], out[k, 1] = contact_normal(s, c.block_a[k], c.block_b[k], c.face[k],
+                                                  c.normal_b[k, 0], c.normal_b[k, 1])
 
 
 @njit(cache=True)

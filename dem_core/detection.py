@@ -31,7 +31,8 @@ import numpy as np
 from numba import njit
 
 from .contacts import ANCHOR_A, INTACT, UNBONDED, Contacts
-from .kinematics import body_point, contact_normal
+from .kinematics import body_point, contact_normal, unrotate
+from .rounding import is_rounded, no_rounding, rounded_contact
 
 __all__ = ["update_contacts", "compact", "block_containing", "world_vertices", "grid_pairs",
            "SUPPORT_SLOPE"]
@@ -52,23 +53,58 @@ def world_vertices(pos, rot, offsets, local):
 
 
 @njit(cache=True)
-def _displacements(c, s, rows):
+def _displacements(c, s, rows, rnd):
     un = np.empty(rows.shape[0])
     us = np.empty(rows.shape[0])
     for i in range(rows.shape[0]):
         k = rows[i]
         a, b = c.block_a[k], c.block_b[k]
-        xa, ya = body_point(s.pos, s.rot, a, c.point_a[k, 0], c.point_a[k, 1])
         xb, yb = body_point(s.pos, s.rot, b, c.point_b[k, 0], c.point_b[k, 1])
-        nx, ny = contact_normal(s, a, b, c.face[k], c.normal_b[k, 0], c.normal_b[k, 1])
-        un[i] = (xb - xa) * nx + (yb - ya) * ny
+        if is_rounded(rnd, c, k):
+            xa, ya, nx, ny, gap = rounded_contact(rnd, s, a, b, c.vertex_a[k], c.edge_b[k])
+            un[i] = gap
+        else:
+            xa, ya = body_point(s.pos, s.rot, a, c.point_a[k, 0], c.point_a[k, 1])
+            nx, ny = contact_normal(s, a, b, c.face[k], c.normal_b[k, 0], c.normal_b[k, 1])
+            un[i] = (xb - xa) * nx + (yb - ya) * ny
         us[i] = (yb - ya) * nx - (xb - xa) * ny
     return un, us
 
 
-def displacements(c: Contacts, s, rows):
-    """(u_n, u_s) of contacts ``rows`` at the pose ``s`` (m; ``contacts.py`` geometry)."""
-    return _displacements(c, s, np.asarray(rows, dtype=np.int64))
+def displacements(c: Contacts, s, rows, rnd=None):
+    """(u_n, u_s) of contacts ``rows`` at the pose ``s`` (m; ``contacts.py`` geometry; with
+    rounded corners ``rnd``, ``rounding.py``)."""
+    rnd = no_rounding() if rnd is None else rnd
+    return _displacements(c, s, np.asarray(rows, dtype=np.int64), rnd)
+
+
+@njit(cache=True)
+def _rounded_points(c, s, rows, rnd):
+    """Put B's point of rounded contacts ``rows`` across the normal from A's corner centre, at
+    the rounded surfaces' touch (``rounding.py``): a new contact starts with no shear offset."""
+    for k in rows:
+        if not is_rounded(rnd, c, k):
+            continue
+        b = c.block_b[k]
+        xc, yc, nx, ny, u_n = rounded_contact(rnd, s, c.block_a[k], b, c.vertex_a[k],
+                                              c.edge_b[k])
+        reach = u_n + 2.0 * rnd.radius
+        c.point_b[k, 0], c.point_b[k, 1] = unrotate(s.rot, b, xc + reach * nx - s.pos[b, 0],
+                                                    yc + reach * ny - s.pos[b, 1])
+
+
+@njit(cache=True)
+def _rounded_touches(s, cand, rnd):
+    """(points, normals), (m, 2) each, world: where the rounded corner of candidates
+    [A, vertex, B, edge] touches (the point of A's arc, ``rounding.py``) and the normal."""
+    points = np.empty((cand.shape[0], 2))
+    normals = np.empty((cand.shape[0], 2))
+    for i in range(cand.shape[0]):
+        xc, yc, nx, ny, _ = rounded_contact(rnd, s, cand[i, 0], cand[i, 2], cand[i, 1],
+                                            cand[i, 3])
+        points[i, 0], points[i, 1] = xc + rnd.radius * nx, yc + rnd.radius * ny
+        normals[i, 0], normals[i, 1] = nx, ny
+    return points, normals
 
 
 @njit(cache=True)
@@ -396,14 +432,16 @@ def _new_rows(p, s, cand, wv):
     return point_b, normal_b, L
 
 
-def update_contacts(c: Contacts, s, p, table, new_material: int, margin: float):
+def update_contacts(c: Contacts, s, p, table, new_material: int, margin: float, rnd=None):
     """Survivors (with history) then new unbonded contacts (the last ``n_new`` rows, stiffness
     and stress still to be set); returns (Contacts, n_new).
 
     ``c`` Contacts, ``s`` BlockState, ``p`` BlockProps, ``table`` the MaterialTable,
     ``new_material`` the material id of a contact with a face that was free at the start,
-    ``margin`` the search distance (m).
+    ``margin`` the search distance (m), ``rnd`` the corners' Rounding (None: sharp; with it
+    gaps, normals and the new contacts' points are those of the rounded corners).
     """
+    rnd = no_rounding() if rnd is None else rnd
     wv = world_vertices(s.pos, s.rot, p.vertex_offsets, p.local_vertices)
     lo, hi = _boxes(wv, p.vertex_offsets, p.active, margin)
     cell = 2.0 * float(np.median(p.radius[p.active > 0])) + 2 * margin if p.active.any() else 1.0
@@ -412,7 +450,7 @@ def update_contacts(c: Contacts, s, p, table, new_material: int, margin: float):
                         covered_faces(c, table, len(p.local_vertices)))
     end = _fix_ring(c.edge_b[:c.n], c.block_b[:c.n], p.vertex_offsets)
     keep, px, py, qx, qy = _survives_kernel(c, s, p, end, table.bonded(), wv, margin,
-                                            SUPPORT_SLOPE)
+                                            SUPPORT_SLOPE, rnd)
     kept = np.flatnonzero(keep)
     nb = len(p.mass)
     keys = np.minimum(c.block_a[kept], c.block_b[kept]).astype(np.int64) * nb + \
@@ -427,8 +465,12 @@ def update_contacts(c: Contacts, s, p, table, new_material: int, margin: float):
     f = np.where(e + 1 < p.vertex_offsets[B + 1], e + 1, p.vertex_offsets[B])
     ed = wv[f] - wv[e]
     ed /= np.hypot(ed[:, 0], ed[:, 1])[:, None]
-    acc = _accept(keys, px[kept], py[kept], qx[kept], qy[kept], ckeys, wv[cand[:, 1], 0],
-                  wv[cand[:, 1], 1], -ed[:, 1], ed[:, 0], margin)
+    if rnd.radius == 0.0:
+        cp, cn = wv[cand[:, 1]], np.column_stack([-ed[:, 1], ed[:, 0]])
+    else:                      # two corners touching make one contact, whichever is "A"
+        cp, cn = _rounded_touches(s, cand, rnd)
+    acc = _accept(keys, px[kept], py[kept], qx[kept], qy[kept], ckeys, cp[:, 0], cp[:, 1],
+                  cn[:, 0], cn[:, 1], margin)
     # one contact per (vertex of A, block B): a vertex at B's corner is not in contact with
     # both of B's faces there (a second contact would double the stiffness and lock motion)
     have = c.vertex_a[kept].astype(np.int64) * nb + c.block_b[kept]
@@ -456,6 +498,8 @@ def update_contacts(c: Contacts, s, p, table, new_material: int, margin: float):
         for name in ("sn", "ts", "sn_elastic", "us", "up", "un"):
             getattr(new, name)[r] = 0.0
         new.count[0] += m
+        if rnd.radius > 0.0:
+            _rounded_points(new, s, np.arange(r.start, r.stop), rnd)
     return new, m
 
 
@@ -496,9 +540,10 @@ def sort_for_locality(c: Contacts) -> Contacts:
 
 
 @njit(cache=True)
-def _survives_kernel(c, s, p, edge_end, bonded, wv, margin, slope):
+def _survives_kernel(c, s, p, edge_end, bonded, wv, margin, slope, rnd):
     """Which live contacts survive the search (module docstring, 3), and each one's world
-    point (px, py) and normal (qx, qy)."""
+    point (px, py) and normal (qx, qy). A rounded contact (``rounding.py``) is judged by its
+    rounded gap and normal, with A's corner centre for its point (px, py: where it touches)."""
     nc = c.count[0]
     keep = np.zeros(nc, np.bool_)
     px = np.empty(nc)
@@ -507,9 +552,16 @@ def _survives_kernel(c, s, p, edge_end, bonded, wv, margin, slope):
     qy = np.empty(nc)
     for k in range(nc):
         a, b = c.block_a[k], c.block_b[k]
-        xa, ya = body_point(s.pos, s.rot, a, c.point_a[k, 0], c.point_a[k, 1])
-        nx, ny = contact_normal(s, a, b, c.face[k], c.normal_b[k, 0], c.normal_b[k, 1])
-        px[k], py[k], qx[k], qy[k] = xa, ya, nx, ny
+        xb, yb = body_point(s.pos, s.rot, b, c.point_b[k, 0], c.point_b[k, 1])
+        if is_rounded(rnd, c, k):
+            xa, ya, nx, ny, gap = rounded_contact(rnd, s, a, b, c.vertex_a[k], c.edge_b[k])
+            px[k], py[k] = xa + rnd.radius * nx, ya + rnd.radius * ny    # the touch
+        else:
+            xa, ya = body_point(s.pos, s.rot, a, c.point_a[k, 0], c.point_a[k, 1])
+            nx, ny = contact_normal(s, a, b, c.face[k], c.normal_b[k, 0], c.normal_b[k, 1])
+            gap = (xb - xa) * nx + (yb - ya) * ny
+            px[k], py[k] = xa, ya
+        qx[k], qy[k] = nx, ny
         if not (p.active[a] and p.active[b]):
             continue
         if c.broken[k] == INTACT and bonded[c.material[k]]:
@@ -520,8 +572,7 @@ def _survives_kernel(c, s, p, edge_end, bonded, wv, margin, slope):
         va = c.vertex_a[k]
         if va < 0 and abs(s.theta[a] - s.theta[b]) > 0.2:
             continue
-        xb, yb = body_point(s.pos, s.rot, b, c.point_b[k, 0], c.point_b[k, 1])
-        if (xb - xa) * nx + (yb - ya) * ny > margin:
+        if gap > margin:
             continue
         e, f = c.edge_b[k], edge_end[k]
         if e >= 0:

@@ -30,24 +30,31 @@ from numba.core.errors import NumbaPerformanceWarning
 from .contacts import ANCHOR_A, ANCHOR_B
 from .kinematics import body_point, contact_normal, unrotate
 from .law import coulomb_law
+from .rounding import is_rounded, rounded_contact
 
 __all__ = ["add_contact_forces", "contact_update", "log_crack", "edge_correction"]
 
 
 @njit(cache=True, inline="always")
-def contact_update(k, c, strength, s):
+def contact_update(k, c, strength, s, rnd):
     """Contact k of ``c`` (Contacts) at the blocks' pose ``s`` (BlockState): updates its
     displacements and stresses and returns (fx, fy, xa, ya, event): the force on B (N/m; minus
     it on A), the point it acts at (m: A's vertex, or midway between the two faces' points of
-    a face contact) and the law's event (1 tension failure, 2 shear failure,
-    3 slip, 4 open). Shared by the serial kernel below and the threaded one (``parallel.py``),
-    so both compute the same numbers."""
+    a face contact; with rounded corners ``rnd``, the point of A's arc) and the law's event
+    (1 tension failure, 2 shear failure, 3 slip, 4 open). Shared by the serial kernel below and
+    the threaded one (``parallel.py``), so both compute the same numbers."""
     a = c.block_a[k]
     b = c.block_b[k]
-    xa, ya = body_point(s.pos, s.rot, a, c.point_a[k, 0], c.point_a[k, 1])
     xb, yb = body_point(s.pos, s.rot, b, c.point_b[k, 0], c.point_b[k, 1])
-    nx, ny = contact_normal(s, a, b, c.face[k], c.normal_b[k, 0], c.normal_b[k, 1])
-    u_n = (xb - xa) * nx + (yb - ya) * ny
+    rounded = is_rounded(rnd, c, k)
+    if rounded:                            # xa: A's corner centre (rounding.py)
+        xa, ya, nx, ny, u_n = rounded_contact(rnd, s, a, b, c.vertex_a[k], c.edge_b[k])
+        reach = u_n + 2.0 * rnd.radius     # B's point sits this far across the normal
+    else:
+        xa, ya = body_point(s.pos, s.rot, a, c.point_a[k, 0], c.point_a[k, 1])
+        nx, ny = contact_normal(s, a, b, c.face[k], c.normal_b[k, 0], c.normal_b[k, 1])
+        u_n = (xb - xa) * nx + (yb - ya) * ny
+        reach = u_n
     u_s = (yb - ya) * nx - (xb - xa) * ny
     s_n, t_s, sn_e, slip, event = coulomb_law(u_n - c.un[k], u_s - c.us[k], c.sn_elastic[k],
                                               c.ts[k], c.kn[k], c.ks[k], strength,
@@ -62,11 +69,14 @@ def contact_update(k, c, strength, s):
         c.up[k] += slip
         if event == 1 or event == 2:
             c.broken[k] = event
-        _reanchor(k, c, s, xa, ya, xb, yb, u_n, nx, ny)
+        _reanchor(k, c, s, xa, ya, xb, yb, reach, nx, ny)
     # the point the force acts at
     anchor = c.anchor[k]
     px = xa if anchor == ANCHOR_A else (xb if anchor == ANCHOR_B else 0.5 * (xa + xb))
     py = ya if anchor == ANCHOR_A else (yb if anchor == ANCHOR_B else 0.5 * (ya + yb))
+    if rounded:                            # on A's arc
+        px += rnd.radius * nx
+        py += rnd.radius * ny
     L = c.length[k]
     return L * (s_n * nx - t_s * ny), L * (s_n * ny + t_s * nx), px, py, event
 
@@ -190,12 +200,13 @@ def log_crack(cracks, time, xa, ya, event, a, b, m):
 warnings.filterwarnings("ignore", category=NumbaPerformanceWarning,
                         message=r"(?s).*parallel=True.*no transformation for parallel")
 @njit(cache=True, parallel=True)
-def add_contact_forces(c, strength, s, cracks, time, edges=False):
+def add_contact_forces(c, strength, s, cracks, time, rnd, edges=False):
     """All live contacts (``contact_update``), forces added to both blocks in contact order;
-    a new failure is appended to ``cracks``. ``edges``: the edge elements (module docstring)."""
+    a new failure is appended to ``cracks``. ``rnd``: the corners' Rounding (``rounding.py``;
+    empty: sharp). ``edges``: the edge elements (module docstring)."""
     f, pos = s.force, s.pos
     for k in range(c.count[0]):
-        fx, fy, xa, ya, event = contact_update(k, c, strength, s)
+        fx, fy, xa, ya, event = contact_update(k, c, strength, s, rnd)
         a = c.block_a[k]
         b = c.block_b[k]
         if event == 1 or event == 2:

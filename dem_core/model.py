@@ -27,6 +27,7 @@ from .elastic import series_stiffness
 from .materials import Material, material_table
 from . import parallel
 from .parallel import no_parallel, parallel_bundle
+from .rounding import rounding_bundle
 from .water import WaterTable
 from .state import (FIX_ROT, FIX_X, FIX_Y, CrackLog, Integrator, block_props,
                     state_at_rest)
@@ -87,12 +88,22 @@ class Model:
         (``forces.edge_correction``): the exact elastic bending stiffness and strength of a
         bonded edge. Off (each contact its own spring at an edge end, three times too stiff and
         strong in bending) until the comparison cases are re-run with it (docs/mechanics.md).
+    rounding : float
+        Corner rounding radius d, m (0: sharp corners, the default). With d > 0 every block
+        corner is a circular arc of radius d tangent to its two edges (centred on the corner's
+        bisector, d from both edge lines), as UDEC's rounding: a vertex contact's normal and
+        opening are those of the rounded shapes, so a corner against a corner pushes along the
+        line of the two arcs' centres, and a corner sliding past the end of a face turns round
+        the face's rounded end instead of being held by the face's line (``rounding.py``,
+        docs/mechanics.md). Face-to-face contacts of shared edges are unchanged. At most
+        half the radius at which some block's edge would have no straight part left
+        (ValueError naming the value otherwise; about 1 % of the block edge is UDEC's advice).
     """
 
     def __init__(self, blocks: BlockSystem, materials: dict, density, block_E=None,
                  block_nu=0.25, unbreakable=None, damping=0.8, safety=0.5, mass_scaling=False,
                  dt=None, search_margin=None, new_contact_material=None, history_every=100,
-                 threads=1, kinetic_damping=0, edge_elements=False):
+                 threads=1, kinetic_damping=0, edge_elements=False, rounding=0.0):
         if not isinstance(blocks, BlockSystem):
             raise ValueError(f"blocks must be a BlockSystem, got {type(blocks).__name__}")
         if not (0.0 <= damping < 1.0):
@@ -113,6 +124,8 @@ class Model:
         self.unbreakable = unbreakable
         self.table = material_table(blocks.material_names, self.materials, unbreakable)
         self.props = block_props(blocks, density)
+        self.corners = rounding_bundle(self.props, rounding)     # rounding.Rounding
+        self.rounding = self.corners.radius
         self.state = state_at_rest(blocks.centroid)
         nb = blocks.n_blocks
         self.block_E = self._per_block(block_E, np.inf, "block_E", lower=0.0)
@@ -204,7 +217,7 @@ class Model:
         c, st = self.contacts, self.state
         a, b, m = c.block_a[rows], c.block_b[rows], c.material[rows]
         xa = c.position(st.pos, st.rot)[rows]
-        n = c.normal(st)[rows]
+        n = c.normal(st, self.corners)[rows]
         h_a = np.abs(((xa - st.pos[a]) * n).sum(axis=1))
         h_b = np.abs(((xa - st.pos[b]) * n).sum(axis=1))
         c.kn[rows], c.ks[rows] = series_stiffness(self.table.kn[m], self.table.ks[m], h_a, h_b,
@@ -394,7 +407,7 @@ class Model:
               "points", "search_enabled", "water", "water_faces", "cables", "liners")
     _SETTINGS = ("unbreakable", "damping", "safety", "mass_scaling", "fixed_dt",
                  "search_margin", "new_contact_material", "threads", "kinetic_damping",
-                 "edge_elements")
+                 "edge_elements", "rounding")
 
     def snapshot(self) -> dict:
         """A copy of everything that changes while the model runs; ``restore`` returns to it."""
@@ -427,12 +440,14 @@ class Model:
         m = cls.__new__(cls)
         meta = parts["meta"]
         m.blocks = parts["blocks"]
-        m.edge_elements = False                 # (files from before the option)
+        m.edge_elements = False                 # (files from before the options)
+        m.rounding = 0.0
         for k, v in {**meta["settings"], **meta["clock"]}.items():
             setattr(m, k, v)
         m.materials = {k: Material(**v) for k, v in meta["materials"].items()}
         m.table = material_table(meta["table_names"], m.materials, m.unbreakable)
         m.props, m.state, m.cracks = (parts["bundles"][k] for k in ("props", "state", "cracks"))
+        m.corners = rounding_bundle(m.props, m.rounding)
         m.cables = parts["bundles"].get("cables", support.no_cables())
         m.liners = parts["bundles"].get("liners", support.no_liners())
         m.contacts = parts["contacts"]
@@ -537,7 +552,8 @@ class Model:
         support.set_controls(self)
         steps, self.time, status, bad = stepper.run_steps(
             n, self.time, self._integrator(), self.state, self.props, self.contacts,
-            self.table.strength_array(), self.cracks, self._parallel(), *self._components())
+            self.table.strength_array(), self.cracks, self.corners, self._parallel(),
+            *self._components())
         self.step += steps
         if status == stepper.UNSTABLE:
             raise ModelUnstable(self._diagnose(bad))
@@ -614,12 +630,12 @@ class Model:
                   if self.new_contact_material is not None else -1)
         self.contacts, n_new = detection.update_contacts(self.contacts, self.state, self.props,
                                                          self.table, new_id,
-                                                         self.search_margin)
+                                                         self.search_margin, self.corners)
         if n_new:
             c = self.contacts
             rows = np.arange(c.n - n_new, c.n)
             self._set_contact_stiffness(rows)
-            c.un[rows], c.us[rows] = detection.displacements(c, self.state, rows)
+            c.un[rows], c.us[rows] = detection.displacements(c, self.state, rows, self.corners)
             c.sn_elastic[rows] = -c.kn[rows] * c.un[rows]
             self.contacts = detection.sort_for_locality(c)
         self.state.pos_search[:] = self.state.pos

@@ -59,21 +59,22 @@ DONE, NEED_SEARCH, UNSTABLE = 0, 1, 2
 
 
 @njit(cache=True)
-def run_steps(nsteps, time, integ, s, p, c, strength, cracks, par, gravity, loads, water,
+def run_steps(nsteps, time, integ, s, p, c, strength, cracks, rnd, par, gravity, loads, water,
               cables, liners, servo):
     """Advance up to ``nsteps`` steps; returns (steps done, time, status, block).
 
     ``integ`` Integrator, ``s`` BlockState, ``p`` BlockProps, ``c`` Contacts, ``strength`` the
-    material table's (nm, 7) rows, ``cracks`` CrackLog, ``par`` Parallel (empty: serial), then
-    the component bundles. Stops early with status 1 (search needed, after completing the step)
-    or 2 (unstable, before moving).
+    material table's (nm, 7) rows, ``cracks`` CrackLog, ``rnd`` the corners' Rounding (empty:
+    sharp corners), ``par`` Parallel (empty: serial), then the component bundles. Stops early
+    with status 1 (search needed, after completing the step) or 2 (unstable, before moving).
     """
     for step in range(nsteps):
         if par.offsets.shape[0] == 0:
             s.force[:] = 0.0
-            add_contact_forces(c, strength, s, cracks, time, integ.edge_elements)
+            add_contact_forces(c, strength, s, cracks, time, rnd, integ.edge_elements)
         else:                              # (zeroes the forces in its per-block pass)
-            add_contact_forces_parallel(c, strength, s, cracks, time, par, integ.edge_elements)
+            add_contact_forces_parallel(c, strength, s, cracks, time, rnd, par,
+                                        integ.edge_elements)
         add_gravity(gravity, s, p)
         add_loads(loads, s, p)
         add_water(water, s, p)
