@@ -643,8 +643,11 @@ class Model:
         if n_new or self.contacts.n != old_n:
             self._update_timestep()
 
+    # a block whose contacts overlap by more than this fraction of its width is squeezed
+    SQUEEZED = 0.1
+
     def _diagnose(self, b) -> str:
-        p, c = self.props, self.contacts
+        c = self.contacts
         mine = np.flatnonzero((c.block_a[:c.n] == b) | (c.block_b[:c.n] == b))
         kmax = float(c.kn[mine].max()) if mine.size else 0.0
         area = float(self.blocks.area[b])
@@ -653,6 +656,16 @@ class Model:
         if area < 1e-3 * med:
             cause.append(f"a sliver (area {area:.3g} m^2 vs median {med:.3g}): merge it or use "
                          "mass_scaling=True")
+        width = area / (2.0 * float(self.props.radius[b]))   # a thin block's width
+        overlap = float(-c.un[mine].min()) if mine.size else 0.0
+        if overlap > self.SQUEEZED * width:
+            cause.append(
+                f"a squeezed block: its contacts overlap by up to {overlap * 1e3:.3g} mm, "
+                f"{overlap / width:.2g} of its width ({width:.3g} m = area / (2 radius)), at "
+                f"normal stresses up to {float(c.sn[mine].max()) / 1e6:.3g} MPa; the contacts "
+                "are far too soft for that stress (a thin block wedged at a joint crossing): "
+                "stiffen those contacts, or excavate such blocks (e.g. area / radius^2 < 0.3) "
+                "before loading")
         if self.fixed_dt is not None and self.fixed_dt > self.critical_dt:
             cause.append(f"the fixed dt {self.fixed_dt:.3g} s exceeds the critical step "
                          f"{self.critical_dt:.3g} s: let the model choose dt")

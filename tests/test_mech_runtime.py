@@ -184,3 +184,18 @@ def test_instability_is_reported_with_the_block_and_cause():
     m.set_gravity(1.0)
     with pytest.raises(ModelUnstable, match=r"block \d+.*critical step"):
         m.cycle(2000)
+
+
+def test_a_squeezed_thin_block_is_named_as_the_cause():
+    """A block whose contacts overlap by more than a tenth of its width (area / (2 radius)):
+    the diagnosis says so, with the overlap, instead of blaming the time step."""
+    bs = brick_grid(3, 1, 1.0, 0.2)                  # three 1 m x 0.2 m bricks side by side
+    m = Model(bs, {"flaw:*": Material(kn=1e9, ks=1e9)}, density=2500)
+    c = m.contacts
+    mine = np.flatnonzero((c.block_a[:c.n] == 1) | (c.block_b[:c.n] == 1))
+    assert "squeezed" not in m._diagnose(1)
+    width = bs.area[1] / (2.0 * m.props.radius[1])
+    c.un[mine[0]] = -0.2 * width                     # overlap a fifth of the width
+    c.sn[mine[0]] = 1e9 * 0.2 * width
+    msg = m._diagnose(1)
+    assert "squeezed block" in msg and "0.2 of its width" in msg
