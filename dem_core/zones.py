@@ -7,22 +7,25 @@ the gridpoints, energies, the critical time step and the assembled stiffness (fo
 checks). Coupling the boundary gridpoints to the contact system is part 2 and not built yet:
 no ``Model`` or scene uses zones today (docs/mechanics.md, "Deformable zones").
 
-Zone mechanics (plane strain, small strain, linear elastic; stress **tension positive**, as in
-the continuum module, unlike the contacts' compression-positive sn):
+Zone mechanics (plane strain, small strain in each zone's co-rotated frame, linear elastic;
+stress **tension positive**, as in the continuum module, unlike the contacts' sn):
 
-    u = x - x0 at the zone's nodes 1, 2, 3 (m), A the zone's area (m2),
-    b_i = (y_j - y_k) / 2A,  c_i = (x_k - x_j) / 2A        (i, j, k cyclic)
+    b_i = (y0_j - y0_k) / 2A,  c_i = (x0_k - x0_j) / 2A    (i, j, k cyclic; A the area, m2)
+    F = sum_i x_i (b_i, c_i),  theta = atan2(F_yx - F_xy, F_xx + F_yy)   (polar rotation)
+    u_i = R(theta)^T x_i - x0_i                                           (co-rotated, m)
     exx = sum b_i ux_i,  eyy = sum c_i uy_i,  gxy = sum (c_i ux_i + b_i uy_i)
     sxx = (lam + 2 mu) exx + lam eyy,  syy = lam exx + (lam + 2 mu) eyy,  sxy = mu gxy
-    force on node i (N/m): fx_i = -A (b_i sxx + c_i sxy),  fy_i = -A (c_i syy + b_i sxy)
+    force on node i (N/m) = R (-A (b_i sxx + c_i sxy), -A (c_i syy + b_i sxy))
 
-with lam = E nu / ((1 + nu)(1 - 2 nu)), mu = E / (2 (1 + nu)) (Pa). The mass of each zone is
-lumped in thirds on its nodes. The gridpoints move by the same leapfrog and local damping as
-the blocks (``components.nodes.damped``). The critical step is 2 / omega_max with omega_max^2
-bounded by Gershgorin's theorem on M^-1 K (the largest row sum of |K| / m), times ``safety``.
-Small strain: a zone that turns by a finite angle gets spurious strain (a co-rotational update
-is needed before blocks may rotate; part 2). Reference: Zienkiewicz & Taylor, The Finite
-Element Method, vol. 1, ch. 6 (the linear triangle); Cundall's UDEC manual, "deformable blocks".
+with lam = E nu / ((1 + nu)(1 - 2 nu)), mu = E / (2 (1 + nu)) (Pa). A rigid rotation of any
+size strains nothing; for small rotations this is the linear triangle (``stiffness_matrix``).
+``Zones.stress`` is reported in the world frame (R s R^T). The mass of each zone is lumped in
+thirds on its nodes. The gridpoints move by the same leapfrog and local damping as the blocks
+(``components.nodes.damped``). The critical step is 2 / omega_max with omega_max^2 bounded by
+Gershgorin's theorem on M^-1 K (the largest row sum of |K| / m), times ``safety``. Reference:
+Zienkiewicz & Taylor, The Finite Element Method, vol. 1, ch. 6 (the linear triangle);
+Crisfield, Non-linear Finite Element Analysis, vol. 1, ch. 7 (co-rotational elements); the
+UDEC manual, "deformable blocks".
 """
 from __future__ import annotations
 
@@ -177,16 +180,29 @@ def zones_from_mesh(points, triangles, E, nu, density, block=None) -> Zones:
 
 @njit(cache=True)
 def add_zone_forces(z):
-    """The zones' elastic forces added to ``z.f`` and their stresses to ``z.stress``
-    (module docstring)."""
+    """The zones' elastic forces added to ``z.f`` and their stresses (world frame) to
+    ``z.stress`` (module docstring: co-rotational constant-strain triangles)."""
     for e in range(z.nodes.shape[0]):
+        fxx = 0.0
+        fxy = 0.0
+        fyx = 0.0
+        fyy = 0.0
+        for i in range(3):
+            n = z.nodes[e, i]
+            bi, ci = z.bc[e, i], z.bc[e, 3 + i]
+            fxx += bi * z.x[n, 0]
+            fxy += ci * z.x[n, 0]
+            fyx += bi * z.x[n, 1]
+            fyy += ci * z.x[n, 1]
+        th = math.atan2(fyx - fxy, fxx + fyy)
+        co, si = math.cos(th), math.sin(th)
         exx = 0.0
         eyy = 0.0
         gxy = 0.0
         for i in range(3):
             n = z.nodes[e, i]
-            ux = z.x[n, 0] - z.x0[n, 0]
-            uy = z.x[n, 1] - z.x0[n, 1]
+            ux = co * z.x[n, 0] + si * z.x[n, 1] - z.x0[n, 0]      # R^T x - x0
+            uy = -si * z.x[n, 0] + co * z.x[n, 1] - z.x0[n, 1]
             bi, ci = z.bc[e, i], z.bc[e, 3 + i]
             exx += bi * ux
             eyy += ci * uy
@@ -195,15 +211,18 @@ def add_zone_forces(z):
         sxx = (lam + 2.0 * mu) * exx + lam * eyy
         syy = lam * exx + (lam + 2.0 * mu) * eyy
         sxy = mu * gxy
-        z.stress[e, 0] = sxx
-        z.stress[e, 1] = syy
-        z.stress[e, 2] = sxy
+        # world stress R s R^T
+        z.stress[e, 0] = co * co * sxx - 2.0 * co * si * sxy + si * si * syy
+        z.stress[e, 1] = si * si * sxx + 2.0 * co * si * sxy + co * co * syy
+        z.stress[e, 2] = co * si * (sxx - syy) + (co * co - si * si) * sxy
         a = z.area[e]
         for i in range(3):
             n = z.nodes[e, i]
             bi, ci = z.bc[e, i], z.bc[e, 3 + i]
-            z.f[n, 0] -= a * (bi * sxx + ci * sxy)
-            z.f[n, 1] -= a * (ci * syy + bi * sxy)
+            gx = -a * (bi * sxx + ci * sxy)                           # in the zone's frame
+            gy = -a * (ci * syy + bi * sxy)
+            z.f[n, 0] += co * gx - si * gy
+            z.f[n, 1] += si * gx + co * gy
 
 
 @njit(cache=True)
@@ -231,14 +250,27 @@ def kinetic_energy(z) -> float:
 
 
 def strain_energy(z) -> float:
-    """J/m: 1/2 sum A sigma : eps of the zones at the current displacements."""
-    u = z.x - z.x0
-    return float(0.5 * u.ravel() @ (stiffness_matrix(z) @ u.ravel()))
+    """J/m: 1/2 sum A sigma : eps of the zones in their co-rotated frames."""
+    x = z.x[z.nodes]                                         # (nz, 3, 2)
+    b, c = z.bc[:, :3], z.bc[:, 3:]
+    F = np.stack([(b * x[:, :, 0]).sum(1), (c * x[:, :, 0]).sum(1),
+                  (b * x[:, :, 1]).sum(1), (c * x[:, :, 1]).sum(1)], axis=1)
+    th = np.arctan2(F[:, 2] - F[:, 1], F[:, 0] + F[:, 3])
+    co, si = np.cos(th)[:, None], np.sin(th)[:, None]
+    x0 = z.x0[z.nodes]
+    ux = co * x[:, :, 0] + si * x[:, :, 1] - x0[:, :, 0]
+    uy = -si * x[:, :, 0] + co * x[:, :, 1] - x0[:, :, 1]
+    exx, eyy = (b * ux).sum(1), (c * uy).sum(1)
+    gxy = (c * ux + b * uy).sum(1)
+    lam, mu = z.lame[:, 0], z.lame[:, 1]
+    w = 0.5 * lam * (exx + eyy) ** 2 + mu * (exx ** 2 + eyy ** 2 + 0.5 * gxy ** 2)
+    return float((w * z.area).sum())
 
 
 def stiffness_matrix(z):
-    """The assembled stiffness K (2 ng x 2 ng, scipy CSR, N/m per m), dofs (x, y) per
-    gridpoint: the explicit forces are f = -K u (checked in tests/test_zones.py)."""
+    """The assembled small-strain stiffness K (2 ng x 2 ng, scipy CSR, N/m per m), dofs (x, y)
+    per gridpoint: for small displacements the explicit forces are f = -K u (checked in
+    tests/test_zones.py)."""
     from scipy.sparse import coo_matrix
 
     nz = len(z.area)
