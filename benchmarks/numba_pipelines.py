@@ -94,7 +94,8 @@ def main():
     m.fix("base")
     m.set_gravity(50.0)
     m.cycle(20)
-    args = (m.contacts, m.table.strength_array(), m.state, m.cracks, m.time, m.corners, False)
+    args = (m.contacts, m.table.strength_array(), m.state, m.cracks, m.time, m.corners, False,
+            m.zone_state)
     source = forces.add_contact_forces.py_func
     out = {"benchmark": "numba_pipelines", "machine": f"{platform.node()} {platform.machine()} {platform.platform()}",
            "blocks": m.n_blocks, "contacts": int(m.contacts.n)}

@@ -79,7 +79,7 @@ def profile(n_blocks, steps=200):
 
     timed("zero force array", lambda: s.force.fill(0.0))
     timed("contact forces + law (add_contact_forces)", lambda: forces.add_contact_forces(
-        c, strength, s, m.cracks, m.time, m.corners))
+        c, strength, s, m.cracks, m.time, m.corners, False, m.zone_state))
     grav = m._components()[0]
     timed("gravity (add_gravity)", lambda: add_gravity(grav, s, p))
     # advance moves the blocks: keep the force small so the specimen stays put

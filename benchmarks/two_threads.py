@@ -53,15 +53,15 @@ def _loops():
     from dem_core.step import advance, advance_parallel
 
     @njit
-    def contacts_serial(n, c, strength, s, cracks, rnd):
+    def contacts_serial(n, c, strength, s, cracks, rnd, dfm):
         for _ in range(n):
             s.force[:] = 0.0
-            add_contact_forces(c, strength, s, cracks, 0.0, rnd, False)
+            add_contact_forces(c, strength, s, cracks, 0.0, rnd, False, dfm)
 
     @njit
-    def contacts_threaded(n, c, strength, s, cracks, rnd, par):
+    def contacts_threaded(n, c, strength, s, cracks, rnd, par, dfm):
         for _ in range(n):
-            add_contact_forces_parallel(c, strength, s, cracks, 0.0, rnd, par, False)
+            add_contact_forces_parallel(c, strength, s, cracks, 0.0, rnd, par, False, dfm)
 
     @njit
     def advance_serial(n, s, p, integ):
@@ -94,9 +94,9 @@ def parts(m, steps, loops):
     out = {}
     for name, fn, args in (
             ("contacts_serial", contacts_serial,
-             (m.contacts, strength, m.state, m.cracks, m.corners)),
+             (m.contacts, strength, m.state, m.cracks, m.corners, m.zone_state)),
             ("contacts_threaded", contacts_threaded,
-             (m.contacts, strength, m.state, m.cracks, m.corners, par)),
+             (m.contacts, strength, m.state, m.cracks, m.corners, par, m.zone_state)),
             ("advance_serial", advance_serial, (m.state, m.props, integ)),
             ("advance_threaded", advance_threaded, (m.state, m.props, integ)),
             ("gravity", gravity, (g, m.state, m.props))):

@@ -27,6 +27,7 @@ import warnings
 from numba import njit
 from numba.core.errors import NumbaPerformanceWarning
 
+from .components.deformable import deformed_points, rest_points
 from .contacts import ANCHOR_A, ANCHOR_B
 from .kinematics import body_point, contact_normal, unrotate
 from .law import coulomb_law
@@ -36,13 +37,15 @@ __all__ = ["add_contact_forces", "contact_update", "log_crack", "edge_correction
 
 
 @njit(cache=True, inline="always")
-def contact_update(k, c, strength, s, rnd):
+def contact_update(k, c, strength, s, rnd, dfm):
     """Contact k of ``c`` (Contacts) at the blocks' pose ``s`` (BlockState): updates its
     displacements and stresses and returns (fx, fy, xa, ya, event): the force on B (N/m; minus
     it on A), the point it acts at (m: A's vertex, or midway between the two faces' points of
     a face contact; with rounded corners ``rnd``, the point of A's arc) and the law's event
-    (1 tension failure, 2 shear failure, 3 slip, 4 open). Shared by the serial kernel below and
-    the threaded one (``parallel.py``), so both compute the same numbers."""
+    (1 tension failure, 2 shear failure, 3 slip, 4 open). ``dfm``: the deformable blocks'
+    zones (``components.deformable``; empty: every block rigid, the points are body points),
+    whose displacement moves the points. Shared by the serial kernel below and the threaded
+    one (``parallel.py``), so both compute the same numbers."""
     a = c.block_a[k]
     b = c.block_b[k]
     xb, yb = body_point(s.pos, s.rot, b, c.point_b[k, 0], c.point_b[k, 1])
@@ -51,7 +54,10 @@ def contact_update(k, c, strength, s, rnd):
         xa, ya, nx, ny, u_n = rounded_contact(rnd, s, a, b, c.vertex_a[k], c.edge_b[k])
         reach = u_n + 2.0 * rnd.radius     # B's point sits this far across the normal
     else:
-        xa, ya = body_point(s.pos, s.rot, a, c.point_a[k, 0], c.point_a[k, 1])
+        if dfm.point_offsets.shape[0] == 0:
+            xa, ya = body_point(s.pos, s.rot, a, c.point_a[k, 0], c.point_a[k, 1])
+        else:                              # points moved by the zones' displacement
+            xa, ya, xb, yb = deformed_points(k, c, s, dfm)
         nx, ny = contact_normal(s, a, b, c.face[k], c.normal_b[k, 0], c.normal_b[k, 1])
         u_n = (xb - xa) * nx + (yb - ya) * ny
         reach = u_n
@@ -70,6 +76,8 @@ def contact_update(k, c, strength, s, rnd):
         if event == 1 or event == 2:
             c.broken[k] = event
         _reanchor(k, c, s, xa, ya, xb, yb, reach, nx, ny)
+        if dfm.point_offsets.shape[0] != 0:
+            rest_points(k, c, s, dfm)       # the moved point(s) back to rest places
     # the point the force acts at
     anchor = c.anchor[k]
     px = xa if anchor == ANCHOR_A else (xb if anchor == ANCHOR_B else 0.5 * (xa + xb))
@@ -200,13 +208,14 @@ def log_crack(cracks, time, xa, ya, event, a, b, m):
 warnings.filterwarnings("ignore", category=NumbaPerformanceWarning,
                         message=r"(?s).*parallel=True.*no transformation for parallel")
 @njit(cache=True, parallel=True)
-def add_contact_forces(c, strength, s, cracks, time, rnd, edges=False):
+def add_contact_forces(c, strength, s, cracks, time, rnd, edges, dfm):
     """All live contacts (``contact_update``), forces added to both blocks in contact order;
     a new failure is appended to ``cracks``. ``rnd``: the corners' Rounding (``rounding.py``;
-    empty: sharp). ``edges``: the edge elements (module docstring)."""
+    empty: sharp). ``edges``: the edge elements (module docstring). ``dfm``: the deformable
+    blocks' zones (``components.deformable``; empty: rigid blocks)."""
     f, pos = s.force, s.pos
     for k in range(c.count[0]):
-        fx, fy, xa, ya, event = contact_update(k, c, strength, s, rnd)
+        fx, fy, xa, ya, event = contact_update(k, c, strength, s, rnd, dfm)
         a = c.block_a[k]
         b = c.block_b[k]
         if event == 1 or event == 2:

@@ -17,6 +17,7 @@ from .blocks import BlockSystem
 from .contacts import Contacts
 from .monitor import History
 from .components.cables import Cables
+from .components.deformable import Deformable
 from .components.liner import Liners
 from .state import BlockProps, BlockState, CrackLog
 
@@ -26,7 +27,7 @@ _BS_ARRAYS = ("vertices", "vertex_offsets", "centroid", "area", "region_id", "ed
               "edge_p1", "edge_block_a", "edge_block_b", "edge_normal", "edge_length",
               "edge_material")
 _BUNDLES = {"props": BlockProps, "state": BlockState, "cracks": CrackLog, "cables": Cables,
-            "liners": Liners}
+            "liners": Liners, "zone_state": Deformable}
 
 
 def save_parts(path, blocks, bundles: dict, contacts: Contacts, arrays: dict, meta: dict,

@@ -22,6 +22,7 @@ from . import detection, io, monitor, step as stepper
 from .blocks import BlockSystem
 from . import support
 from .components import exposed_faces, gravity_bundle, loads_bundle, servo_bundle, water_bundle
+from .components import deformable as zone_kernels
 from .contacts import initial_contacts, surface_materials
 from .elastic import series_stiffness
 from .materials import Material, material_table
@@ -98,12 +99,22 @@ class Model:
         docs/mechanics.md). Face-to-face contacts of shared edges are unchanged. At most
         half the radius at which some block's edge would have no straight part left
         (ValueError naming the value otherwise; about 1 % of the block edge is UDEC's advice).
+    deformable : dict, optional
+        Deformable blocks (UDEC's): {block group name, or "*" for every block: zone size, m}.
+        Each such block is meshed into constant-strain triangles no longer than the size
+        (``zones.mesh_polygon`` in its body frame) with ``block_E`` (which must be finite for
+        it), ``block_nu`` and the density; it keeps its rigid pose as a floating frame for the
+        contacts, and its zones' displacement moves its contact points and takes their
+        forces (``components/deformable.py``, docs/mechanics.md). Its contacts then have no
+        series block compliance. None (default): every block rigid, the model bit for bit as
+        without the option. Not with ``rounding`` or ``edge_elements`` (ValueError).
     """
 
     def __init__(self, blocks: BlockSystem, materials: dict, density, block_E=None,
                  block_nu=0.25, unbreakable=None, damping=0.8, safety=0.5, mass_scaling=False,
                  dt=None, search_margin=None, new_contact_material=None, history_every=100,
-                 threads=1, kinetic_damping=0, edge_elements=False, rounding=0.0):
+                 threads=1, kinetic_damping=0, edge_elements=False, rounding=0.0,
+                 deformable=None):
         if not isinstance(blocks, BlockSystem):
             raise ValueError(f"blocks must be a BlockSystem, got {type(blocks).__name__}")
         if not (0.0 <= damping < 1.0):
@@ -130,6 +141,8 @@ class Model:
         nb = blocks.n_blocks
         self.block_E = self._per_block(block_E, np.inf, "block_E", lower=0.0)
         self.block_nu = self._per_block(block_nu, 0.25, "block_nu", lower=-1.0, upper=0.5)
+        self.deformable = self._deformable_sizes(deformable, rounding, edge_elements)
+        self.zone_state = self._zone_bundle(density)     # components.deformable.Deformable
         self.damping = float(damping)
         if not (isinstance(kinetic_damping, (int, np.integer)) and kinetic_damping >= 0):
             raise ValueError(f"kinetic_damping must be a step interval >= 0 (0: off), got "
@@ -175,6 +188,55 @@ class Model:
         self.search()           # touching blocks that share no edge get (unbonded) contacts
 
     # ----------------------------------------------------------------- input helpers
+    def _deformable_sizes(self, deformable, rounding, edge_elements):
+        """The ``deformable`` option checked (ValueError naming a bad entry): a plain dict
+        {group or "*": zone size m}, or None."""
+        if deformable is None:
+            return None
+        if not isinstance(deformable, dict) or not deformable:
+            raise ValueError(f"deformable must be a dict {{group name or '*': zone size m}} or "
+                             f"None, got {deformable!r}")
+        if rounding:
+            raise ValueError(f"deformable blocks do not take corner rounding yet "
+                             f"(rounding={rounding!r}): use rounding=0")
+        if edge_elements:
+            raise ValueError("deformable blocks do not take edge_elements=True yet")
+        out = {}
+        for name, size in deformable.items():
+            if name != "*" and name not in self.blocks.groups:
+                raise ValueError(f"deformable: no block group {name!r}; groups are "
+                                 f"{sorted(self.blocks.groups)} (or '*' for every block)")
+            if isinstance(size, bool) or not isinstance(size, (int, float, np.number)) or \
+                    not (math.isfinite(size) and size > 0):
+                raise ValueError(f"deformable: the zone size of {name!r} must be a finite "
+                                 f"length > 0 m, got {size!r}")
+            out[str(name)] = float(size)
+        return out
+
+    def _zone_bundle(self, density):
+        """The zones of the deformable blocks (empty bundle when none)."""
+        if self.deformable is None:
+            return zone_kernels.no_deformable()
+        nb = self.n_blocks
+        size = np.full(nb, np.nan)
+        for name, h in self.deformable.items():
+            idx = np.arange(nb) if name == "*" else self.group(name)
+            size[idx] = np.fmin(size[idx], h)
+        bad = np.flatnonzero(np.isfinite(size) & ~np.isfinite(self.block_E))
+        if bad.size:
+            raise ValueError(f"deformable block {int(bad[0])} needs a finite block_E (Pa), got "
+                             f"{self.block_E[bad[0]]!r}: pass block_E= to Model")
+        rho = self.props.mass / self.blocks.area
+        return zone_kernels.deformable_bundle(self.props, size, self.block_E, self.block_nu, rho)
+
+    @property
+    def deformable_blocks(self) -> np.ndarray:
+        """(nb,) bool: the blocks that have zones."""
+        off = self.zone_state.point_offsets
+        if off.shape[0] == 0:
+            return np.zeros(self.n_blocks, bool)
+        return np.diff(off) > 0
+
     def _per_block(self, value, default, name, lower=None, upper=None):
         nb = self.blocks.n_blocks
         arr = np.full(nb, default, dtype=np.float64) if value is None else \
@@ -220,9 +282,10 @@ class Model:
         n = c.normal(st, self.corners)[rows]
         h_a = np.abs(((xa - st.pos[a]) * n).sum(axis=1))
         h_b = np.abs(((xa - st.pos[b]) * n).sum(axis=1))
+        E = np.where(self.deformable_blocks, np.inf, self.block_E)   # zones: their own
         c.kn[rows], c.ks[rows] = series_stiffness(self.table.kn[m], self.table.ks[m], h_a, h_b,
-                                                  self.block_E[a], self.block_nu[a],
-                                                  self.block_E[b], self.block_nu[b])
+                                                  E[a], self.block_nu[a],
+                                                  E[b], self.block_nu[b])
 
     def _update_timestep(self):
         """Automatic step (and inertial masses with mass scaling) from the current contacts."""
@@ -238,6 +301,7 @@ class Model:
         w2 = w2 + 2.0 * (kt / p.mass + kr / p.inertia)
         moving = (p.active > 0) & (p.fixity != (FIX_X | FIX_Y | FIX_ROT)) & (w2 > 0)
         scale = np.ones(self.n_blocks)
+        target = None
         if self.mass_scaling and moving.any():
             target = float(np.median(w2[moving]))
             scale = np.maximum(1.0, w2 / target)
@@ -245,6 +309,8 @@ class Model:
         p.inv_mass[:] = 1.0 / (p.mass * scale)
         p.inv_inertia[:] = 1.0 / (p.inertia * scale)
         w2max = float(w2[moving].max()) if moving.any() else 0.0
+        if not zone_kernels.is_empty(self.zone_state):
+            w2max = max(w2max, self._zone_frequency(target))
         if w2max == 0 and support.has_nodes(self) and np.any(w2[p.active > 0] > 0):
             w2max = float(w2[p.active > 0].max())     # only the support moves
         if w2max > 0:
@@ -256,6 +322,18 @@ class Model:
             self.dt = self.safety * self.critical_dt
         elif self.dt is None:
             self.dt = None       # no contacts yet: cycle() will ask for a dt
+
+    def _zone_frequency(self, target):
+        """The gridpoints' largest omega^2 (Gershgorin: zones plus 2 (kn + ks) L of the
+        contacts each takes a share of, over its mass); with mass scaling (``target``, the
+        blocks' median bound) a gridpoint above the target gets that much more inertial
+        mass, as a block does."""
+        z, p = self.zone_state, self.props
+        w2 = zone_kernels.gridpoint_stiffness(z, self.contacts, self.state) / z.mass
+        scale = np.ones_like(w2) if target is None else np.maximum(1.0, w2 / target)
+        z.inv_mass[:] = 1.0 / (z.mass * scale)
+        live = np.repeat(p.active > 0, np.diff(z.point_offsets))
+        return float((w2 / scale)[live].max()) if live.any() else 0.0
 
     # ----------------------------------------------------------------- loading
     def set_gravity(self, g_level=1.0, g=STANDARD_GRAVITY, direction=(0.0, -1.0)):
@@ -404,10 +482,11 @@ class Model:
     # What changes while a model runs (everything else is fixed at construction).
     _STATE = ("props", "state", "contacts", "cracks", "materials", "table", "gravity", "load",
               "servo_groups", "time", "step", "dt", "critical_dt", "kinetic", "history",
-              "points", "search_enabled", "water", "water_faces", "cables", "liners")
+              "points", "search_enabled", "water", "water_faces", "cables", "liners",
+              "zone_state")
     _SETTINGS = ("unbreakable", "damping", "safety", "mass_scaling", "fixed_dt",
                  "search_margin", "new_contact_material", "threads", "kinetic_damping",
-                 "edge_elements", "rounding")
+                 "edge_elements", "rounding", "deformable")
 
     def snapshot(self) -> dict:
         """A copy of everything that changes while the model runs; ``restore`` returns to it."""
@@ -421,7 +500,7 @@ class Model:
     def save(self, path):
         """Write the whole model to ``path`` (.npz); ``Model.load`` resumes it bit-for-bit."""
         bundles = {"props": self.props, "state": self.state, "cracks": self.cracks,
-                   "cables": self.cables, "liners": self.liners}
+                   "cables": self.cables, "liners": self.liners, "zone_state": self.zone_state}
         arrays = {"block_E": self.block_E, "block_nu": self.block_nu, "gravity": self.gravity,
                   "load": self.load, "kinetic": self.kinetic}
         meta = {"settings": {k: getattr(self, k) for k in self._SETTINGS},
@@ -442,6 +521,7 @@ class Model:
         m.blocks = parts["blocks"]
         m.edge_elements = False                 # (files from before the options)
         m.rounding = 0.0
+        m.deformable = None
         for k, v in {**meta["settings"], **meta["clock"]}.items():
             setattr(m, k, v)
         m.materials = {k: Material(**v) for k, v in meta["materials"].items()}
@@ -450,6 +530,7 @@ class Model:
         m.corners = rounding_bundle(m.props, m.rounding)
         m.cables = parts["bundles"].get("cables", support.no_cables())
         m.liners = parts["bundles"].get("liners", support.no_liners())
+        m.zone_state = parts["bundles"].get("zone_state", zone_kernels.no_deformable())
         m.contacts = parts["contacts"]
         a = parts["arrays"]
         m.block_E, m.block_nu, m.gravity, m.load, m.kinetic = (
@@ -487,13 +568,22 @@ class Model:
                                         c.length, c.sn, c.ts, *support.unbalanced(self))
 
     def kinetic_energy(self) -> float:
+        """J/m: the blocks' (real masses), plus the deformable blocks' zones' motion in
+        their frames."""
         p = self.props
-        return monitor.kinetic_energy(self.state.vel, self.state.omega, p.mass, p.inertia,
-                                      p.active)
+        ke = monitor.kinetic_energy(self.state.vel, self.state.omega, p.mass, p.inertia,
+                                    p.active)
+        if not zone_kernels.is_empty(self.zone_state):
+            ke += zone_kernels.kinetic_energy(self.zone_state)
+        return ke
 
     def strain_energy(self) -> float:
+        """J/m: the contact springs', plus the deformable blocks' zones'."""
         c = self.contacts
-        return monitor.strain_energy(c)
+        w = monitor.strain_energy(c)
+        if not zone_kernels.is_empty(self.zone_state):
+            w += zone_kernels.strain_energy(self.zone_state)
+        return w
 
     def gravity_energy(self) -> float:
         """Potential of gravity relative to the initial positions, J/m."""
@@ -550,10 +640,11 @@ class Model:
 
     def _run(self, n):
         support.set_controls(self)
+        self.zone_state.control[:] = (self.dt, self.damping)
         steps, self.time, status, bad = stepper.run_steps(
             n, self.time, self._integrator(), self.state, self.props, self.contacts,
             self.table.strength_array(), self.cracks, self.corners, self._parallel(),
-            *self._components())
+            *self._components(), self.zone_state)
         self.step += steps
         if status == stepper.UNSTABLE:
             raise ModelUnstable(self._diagnose(bad))
@@ -635,7 +726,12 @@ class Model:
             c = self.contacts
             rows = np.arange(c.n - n_new, c.n)
             self._set_contact_stiffness(rows)
-            c.un[rows], c.us[rows] = detection.displacements(c, self.state, rows, self.corners)
+            if zone_kernels.is_empty(self.zone_state):
+                c.un[rows], c.us[rows] = detection.displacements(c, self.state, rows,
+                                                                 self.corners)
+            else:                   # the deformed points: a new contact starts unstressed
+                c.un[rows], c.us[rows] = zone_kernels.contact_displacements(
+                    self.zone_state, c, self.state, rows)
             c.sn_elastic[rows] = -c.kn[rows] * c.un[rows]
             self.contacts = detection.sort_for_locality(c)
         self.state.pos_search[:] = self.state.pos

@@ -89,12 +89,12 @@ def contact_table(nc, block_a, block_b, nb):
 # contact_update straight into the prange body instead gave different round-off in numba 0.68:
 # a shear displacement of 0 where the serial kernel had -3.5e-18 m.)
 @njit(cache=True, parallel=True)
-def contact_range(c, strength, s, rnd, work, events, k0, k1):
+def contact_range(c, strength, s, rnd, dfm, work, events, k0, k1):
     """Contacts k0 <= k < k1 (``forces.contact_update``): force on B, point and event stored
     per contact in ``work`` and ``events``; returns the number of bond failures among them."""
     failures = 0
     for k in range(k0, k1):
-        fx, fy, xa, ya, event = contact_update(k, c, strength, s, rnd)
+        fx, fy, xa, ya, event = contact_update(k, c, strength, s, rnd, dfm)
         events[k] = event
         if event == 1 or event == 2:
             failures += 1
@@ -116,13 +116,13 @@ CHUNKS_PER_THREAD, MIN_CHUNK = 8, 256
 
 
 @njit(cache=True, parallel=True)
-def add_contact_forces_parallel(c, strength, s, cracks, time, rnd, par, edges=False):
+def add_contact_forces_parallel(c, strength, s, cracks, time, rnd, par, edges, dfm):
     """Same inputs and effect as ``forces.add_contact_forces``, with the ``Parallel`` bundle."""
     work, events, failures = par.work, par.events, par.failures
     nc = c.count[0]
     chunk = par.chunk
     for j in prange(-(-nc // chunk)):
-        failures[j] = contact_range(c, strength, s, rnd, work, events, j * chunk,
+        failures[j] = contact_range(c, strength, s, rnd, dfm, work, events, j * chunk,
                                     min(nc, (j + 1) * chunk))
     for j in range(-(-nc // chunk)):         # the crack log, in contact order
         if failures[j] == 0:

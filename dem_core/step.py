@@ -12,6 +12,9 @@ One step (``run_steps`` loops it inside numba, no Python in between)::
     f += liners (bond); their nodes move     components/liner.py
     servo velocities from f                  components/servo.py: last, so it reacts to every
                                              force of the step
+    deformable blocks' zones: their forces   components/deformable.py (empty bundle: nothing)
+         (elastic, the contacts' shares),
+         the rigid part off; they move
     for each free velocity component:  F_d = f - alpha |f| sign(v)        (local damping)
                                        v  += F_d / m_inertial * dt
     prescribed components:             v   = v_bc
@@ -47,6 +50,7 @@ import numpy as np
 from numba import njit, prange
 
 from .components import add_cables, add_gravity, add_liners, add_loads, add_water, servo_velocities
+from .components.deformable import add_deformable
 from .components.nodes import damped
 from .forces import add_contact_forces
 from .kinematics import body_point, set_rotation
@@ -60,27 +64,29 @@ DONE, NEED_SEARCH, UNSTABLE = 0, 1, 2
 
 @njit(cache=True)
 def run_steps(nsteps, time, integ, s, p, c, strength, cracks, rnd, par, gravity, loads, water,
-              cables, liners, servo):
+              cables, liners, servo, dfm):
     """Advance up to ``nsteps`` steps; returns (steps done, time, status, block).
 
     ``integ`` Integrator, ``s`` BlockState, ``p`` BlockProps, ``c`` Contacts, ``strength`` the
     material table's (nm, 7) rows, ``cracks`` CrackLog, ``rnd`` the corners' Rounding (empty:
-    sharp corners), ``par`` Parallel (empty: serial), then the component bundles. Stops early
+    sharp corners), ``par`` Parallel (empty: serial), then the component bundles (the last,
+    ``dfm``, the deformable blocks' zones, is also read by the contact kernels). Stops early
     with status 1 (search needed, after completing the step) or 2 (unstable, before moving).
     """
     for step in range(nsteps):
         if par.offsets.shape[0] == 0:
             s.force[:] = 0.0
-            add_contact_forces(c, strength, s, cracks, time, rnd, integ.edge_elements)
+            add_contact_forces(c, strength, s, cracks, time, rnd, integ.edge_elements, dfm)
         else:                              # (zeroes the forces in its per-block pass)
             add_contact_forces_parallel(c, strength, s, cracks, time, rnd, par,
-                                        integ.edge_elements)
+                                        integ.edge_elements, dfm)
         add_gravity(gravity, s, p)
         add_loads(loads, s, p)
         add_water(water, s, p)
         add_cables(cables, s, p)
         add_liners(liners, s, p)
         servo_velocities(servo, s, p)
+        add_deformable(dfm, c, s, p)
         kick = 0.5 * integ.dt if integ.kinetic[2] != 0.0 else integ.dt
         integ.kinetic[2] = 0.0
         if par.offsets.shape[0] == 0 or s.pos.shape[0] < MIN_THREADED_BLOCKS:

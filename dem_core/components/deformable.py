@@ -1,0 +1,516 @@
+"""Deformable blocks, part 2 (issue 24 item 2): zones coupled to the contacts by a floating frame.
+
+A deformable block keeps its rigid pose (``BlockState.pos``, ``theta``: the frame; the
+contacts, the search and the integration of the blocks are unchanged) and carries the
+displacement u of its zones' gridpoints in that frame (``zones.py`` mechanics, each block
+meshed by ``zones.mesh_polygon`` in its body frame). Everything here is in the block's axes,
+relative to its centroid (the frame of ``BlockProps.local_vertices``).
+
+Geometry. A contact point p (body frame) of a deformable block is at
+
+    x = pos + R(theta) (p + u(p))
+
+with u(p) the displacement of A's vertex gridpoint (A's point of a contact anchored at A's
+vertex), or interpolated along the boundary segment of B's face ``edge_b`` that holds B's
+point: u(p) = (1 - w) u_i + w u_j. Each polygon edge of a deformable block is split by
+``mesh_polygon`` into 2^k equal segments, so the segment of a point is found in O(1). A point
+whose edge is not known (``edge_b`` = -1, or A's point of a contact that is not anchored at
+A's vertex) takes u = 0: it moves with the frame (docs/mechanics.md: for the shared edges of a
+conforming tessellation every contact has both points known).
+
+Forces (``add_deformable``, after every other force of the step). The frame gets every
+contact force whole (the blocks' step, as for a rigid block). The zones' gridpoints get, in
+the block's axes, their elastic forces (``zones.add_zone_forces``) and each contact's force at
+its point: -F at A's vertex gridpoint, +F shared (1 - w, w) between the two gridpoints of B's
+segment (F = L (sn n + ts t) as in ``forces.contact_update``). Of that load the zones keep
+only its non-rigid part (the mean axes of the floating frame):
+
+    f_i <- f_i - m_i (a + alpha k x (x_i - c)),    a = sum f / M,    alpha = M_c / I_c
+
+(c the gridpoints' mass centre, M_c the load's moment about it, I_c = sum m_i |x_i - c|^2),
+i.e. each gridpoint loses the frame's acceleration from the load the zones carry: the zones'
+load is self-equilibrated in force and moment (to round-off), whatever the frame does. A body
+force in proportion to mass (gravity, a centrifuge g-level, ``Model.apply_load``) has no
+non-rigid part and strains nothing; forces that act on the frame only (applied loads, water,
+cables, liners, the reaction of a prescribed velocity) are taken as spread like the mass.
+The gridpoints then move by local damping and leapfrog (``components.nodes.damped``, the
+block's dt and alpha), and the mass-weighted mean displacement and (linearised) mean rotation
+about the centroid are taken out of u and of its velocity, so u is a pure deformation:
+
+    u_i <- u_i - ubar,   ubar = sum m_i u_i / M
+    u_i <- u_i - phi k x x0_i,   phi = sum m_i (x0_i x u_i) / sum m_i |x0_i|^2   (same for v)
+
+The frame's rotation is slow in the quasi-static runs this is for: the centrifugal and
+Coriolis terms of the rotating frame (omega^2 r, 2 omega x v) are left out.
+
+Units per metre out of plane: m, m/s, N/m, kg/m, Pa.
+"""
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from ..contacts import ANCHOR_A, ANCHOR_B, ANCHOR_MID
+from ..kinematics import body_point, contact_normal, rotate, unrotate
+from ..zones import add_zone_forces, mesh_polygon, stiffness_matrix, zones_from_mesh
+from .nodes import damped
+
+__all__ = ["Deformable", "no_deformable", "deformable_bundle", "add_deformable",
+           "deformed_points", "rest_points", "gridpoint_stiffness", "contact_displacements",
+           "kinetic_energy", "strain_energy"]
+
+
+class Deformable(NamedTuple):
+    """The zones of every deformable block (``ng`` gridpoints, ``nz`` zones); all empty (and
+    ``point_offsets`` of length 0) when no block is deformable.
+
+    x0 : (ng, 2) float64, m. Gridpoint rest position in its block's frame (centroid origin).
+    x : (ng, 2) float64, m. Its position now in the block's frame: x0 + u.
+    v : (ng, 2) float64, m/s. Velocity du/dt (block axes, half steps).
+    f : (ng, 2) float64, N/m. Non-rigid part of the gridpoint's load in the last step.
+    mass : (ng,) float64, kg/m. Lumped (real) mass; inv_mass the inertial inverse (mass
+        scaling may make it smaller).
+    stiff : (ng,) float64, N/m per m. Largest row sum of |K| over the gridpoint's two dofs
+        (the zones' Gershgorin bound; ``gridpoint_stiffness`` adds the contacts).
+    nodes, bc, area, lame, stress : the zones (``zones.Zones``: stress tension +, reported
+        in the block's axes).
+    zone_block : (nz,) int64. The block of each zone.
+    point_offsets : (nb + 1,) int64. Gridpoints of block b: point_offsets[b] to [b + 1]
+        (an empty range for a rigid block).
+    block_vertices : (nb + 1,) int64, vertices : (nv, 2) float64, m. ``BlockProps``'
+        vertex_offsets and local_vertices (every block's faces).
+    edge_offsets : (nv + 1,) int64, edge_points : (ne,) int64. The boundary gridpoints of
+        the face that starts at polygon vertex j (``BlockProps.local_vertices``), in order from
+        vertex j to the next: edge_points[edge_offsets[j]:edge_offsets[j + 1]] (empty for a
+        rigid block's faces); the first is vertex j's own gridpoint.
+    control : (2,) float64. dt (s) and the local damping alpha, set before each run.
+    """
+
+    x0: np.ndarray
+    x: np.ndarray
+    v: np.ndarray
+    f: np.ndarray
+    mass: np.ndarray
+    inv_mass: np.ndarray
+    stiff: np.ndarray
+    nodes: np.ndarray
+    bc: np.ndarray
+    area: np.ndarray
+    lame: np.ndarray
+    stress: np.ndarray
+    zone_block: np.ndarray
+    point_offsets: np.ndarray
+    block_vertices: np.ndarray
+    vertices: np.ndarray
+    edge_offsets: np.ndarray
+    edge_points: np.ndarray
+    control: np.ndarray
+
+
+def no_deformable() -> Deformable:
+    """The empty bundle: every block rigid (the kernels do nothing and read nothing)."""
+    v2, v1, i1 = np.zeros((0, 2)), np.zeros(0), np.zeros(0, np.int64)
+    return Deformable(v2, v2.copy(), v2.copy(), v2.copy(), v1, v1.copy(), v1.copy(),
+                      np.zeros((0, 3), np.int64), np.zeros((0, 6)), v1.copy(), np.zeros((0, 2)),
+                      np.zeros((0, 3)), i1, i1.copy(), i1.copy(), np.zeros((0, 2)), i1.copy(),
+                      i1.copy(), np.zeros(2))
+
+
+def is_empty(d: Deformable) -> bool:
+    return d.point_offsets.shape[0] == 0
+
+
+def deformable_bundle(props, size, E, nu, density) -> Deformable:
+    """The zones of the blocks whose ``size`` (nb,) is finite (zone size, m; NaN: rigid),
+    meshed by ``zones.mesh_polygon`` in their body frames, with E (Pa), nu and density
+    (kg/m^3), each (nb,)."""
+    off = props.vertex_offsets
+    nb = len(off) - 1
+    nv = int(off[-1])
+    pts_all, tri_all, blk_all, E_z, nu_z, rho_z = [], [], [], [], [], []
+    point_offsets = np.zeros(nb + 1, np.int64)
+    edge_lists = [[] for _ in range(nv)]
+    ng = 0
+    for b in range(nb):
+        if np.isfinite(size[b]):
+            poly = props.local_vertices[off[b]:off[b + 1]]
+            pts, tri = mesh_polygon(poly, float(size[b]))
+            nseg = int(round(np.sqrt(len(tri) / len(poly))))      # 4^k triangles per fan piece
+            scale = float(np.abs(poly).max())
+            for j in range(len(poly)):
+                p0, p1 = poly[j], poly[(j + 1) % len(poly)]
+                along = p0 + np.outer(np.arange(nseg + 1) / nseg, p1 - p0)
+                d = np.linalg.norm(pts[None, :, :] - along[:, None, :], axis=2)
+                idx = d.argmin(axis=1)
+                if not np.all(d[np.arange(nseg + 1), idx] <= 1e-7 * scale):
+                    raise ValueError(f"deformable block {b}: face {j} is not split into "
+                                     f"{nseg} equal boundary segments by its mesh")
+                edge_lists[off[b] + j] = (idx + ng).tolist()
+            pts_all.append(pts)
+            tri_all.append(tri + ng)
+            blk_all.append(np.full(len(tri), b, np.int64))
+            for lst, val in ((E_z, E), (nu_z, nu), (rho_z, density)):
+                lst.append(np.full(len(tri), float(val[b])))
+            ng += len(pts)
+        point_offsets[b + 1] = ng
+    if ng == 0:
+        return no_deformable()
+    z = zones_from_mesh(np.vstack(pts_all), np.vstack(tri_all), np.concatenate(E_z),
+                        np.concatenate(nu_z), np.concatenate(rho_z),
+                        block=np.concatenate(blk_all))
+    K = abs(stiffness_matrix(z))
+    rows = np.asarray(K.sum(axis=1)).ravel().reshape(-1, 2).max(axis=1)
+    edge_offsets = np.zeros(nv + 1, np.int64)
+    edge_offsets[1:] = np.cumsum([len(e) for e in edge_lists])
+    edge_points = np.asarray([g for e in edge_lists for g in e], np.int64)
+    return Deformable(z.x0, z.x, z.v, z.f, z.mass, z.inv_mass.copy(), rows, z.nodes, z.bc, z.area,
+                      z.lame, z.stress, z.block, point_offsets, np.asarray(off, np.int64).copy(),
+                      np.asarray(props.local_vertices, np.float64).copy(), edge_offsets, edge_points,
+                      np.zeros(2))
+
+
+@njit(cache=True, inline="always")
+def _face_param(d, e, px, py):
+    """Where body point (px, py) projects on face ``e`` (from vertex e to the next vertex of
+    its block), in segments from the face's start, clamped to [0, segments]."""
+    e0, e1 = d.edge_offsets[e], d.edge_offsets[e + 1]
+    g0, g1 = d.edge_points[e0], d.edge_points[e1 - 1]
+    ex, ey = d.x0[g1, 0] - d.x0[g0, 0], d.x0[g1, 1] - d.x0[g0, 1]
+    t = ((px - d.x0[g0, 0]) * ex + (py - d.x0[g0, 1]) * ey) / (ex * ex + ey * ey)
+    return min(max(t, 0.0), 1.0) * (e1 - e0 - 1)
+
+
+@njit(cache=True, inline="always")
+def _nearest_face(d, blk, px, py):
+    """The face of deformable block ``blk`` (its first vertex's index) nearest to its body
+    point (px, py)."""
+    best, face = np.inf, -1
+    for e in range(d.block_vertices[blk], d.block_vertices[blk + 1]):
+        g0, g1 = d.edge_points[d.edge_offsets[e]], d.edge_points[d.edge_offsets[e + 1] - 1]
+        ex, ey = d.x0[g1, 0] - d.x0[g0, 0], d.x0[g1, 1] - d.x0[g0, 1]
+        rx, ry = px - d.x0[g0, 0], py - d.x0[g0, 1]
+        t = min(max((rx * ex + ry * ey) / (ex * ex + ey * ey), 0.0), 1.0)
+        dx, dy = rx - t * ex, ry - t * ey
+        if dx * dx + dy * dy < best:
+            best, face = dx * dx + dy * dy, e
+    return face
+
+
+@njit(cache=True, inline="always")
+def _face_direction(d, blk, e, toward_end):
+    """Unit direction (block frame) along face e of block ``blk``: from its start to its end
+    (``toward_end``) or back."""
+    f = e + 1 if e + 1 < d.block_vertices[blk + 1] else d.block_vertices[blk]
+    ex, ey = d.vertices[f, 0] - d.vertices[e, 0], d.vertices[f, 1] - d.vertices[e, 1]
+    ln = np.hypot(ex, ey)
+    sign = 1.0 if toward_end else -1.0
+    return sign * ex / ln, sign * ey / ln
+
+
+@njit(cache=True, inline="always")
+def _patch_direction(d, k, c, s):
+    """The direction (A's frame, then B's frame) in which contact k's length runs from its
+    point, and whether it has one: a face contact anchored at a vertex covers its length
+    along the face from that vertex (the half of a shared edge next to it: module
+    docstring); any other contact is a point."""
+    a, b = c.block_a[k], c.block_b[k]
+    anchor = c.anchor[k]
+    if c.face[k] == 0 or anchor == ANCHOR_MID:
+        return 0.0, 0.0, 0.0, 0.0, False
+    if anchor == ANCHOR_A:
+        v = c.vertex_a[k]
+        v0, v1 = d.block_vertices[a], d.block_vertices[a + 1]
+        prev = v - 1 if v > v0 else v1 - 1
+        # of A's two faces at the vertex, the one whose outward normal is normal_b
+        nxt = v + 1 if v + 1 < v1 else v0
+        ex, ey = d.vertices[nxt, 0] - d.vertices[v, 0], d.vertices[nxt, 1] - d.vertices[v, 1]
+        px, py = d.vertices[v, 0] - d.vertices[prev, 0], d.vertices[v, 1] - d.vertices[prev, 1]
+        along_next = (ey * c.normal_b[k, 0] - ex * c.normal_b[k, 1]) / np.hypot(ex, ey)
+        along_prev = (py * c.normal_b[k, 0] - px * c.normal_b[k, 1]) / np.hypot(px, py)
+        if along_next >= along_prev:
+            dax, day = _face_direction(d, a, v, True)
+        else:
+            dax, day = _face_direction(d, a, prev, False)
+        wx, wy = rotate(s.rot, a, dax, day)
+        dbx, dby = unrotate(s.rot, b, wx, wy)
+        return dax, day, dbx, dby, True
+    e = c.edge_b[k]                         # ANCHOR_B: B's vertex at an end of face e
+    if e < 0:
+        return 0.0, 0.0, 0.0, 0.0, False
+    f = e + 1 if e + 1 < d.block_vertices[b + 1] else d.block_vertices[b]
+    de = (c.point_b[k, 0] - d.vertices[e, 0]) ** 2 + (c.point_b[k, 1] - d.vertices[e, 1]) ** 2
+    df = (c.point_b[k, 0] - d.vertices[f, 0]) ** 2 + (c.point_b[k, 1] - d.vertices[f, 1]) ** 2
+    dbx, dby = _face_direction(d, b, e, de <= df)
+    wx, wy = rotate(s.rot, b, dbx, dby)
+    dax, day = unrotate(s.rot, a, wx, wy)
+    return dax, day, dbx, dby, True
+
+
+@njit(cache=True, inline="always")
+def _side(d, blk, face, px, py, dx, dy, length, patch):
+    """(face, q0, q1): the stretch of a deformable block's boundary a contact point (px, py)
+    acts on, in segments along ``face`` (-1: the nearest face), from the point to
+    point + length (dx, dy) (a patch) or q0 = q1 (a point); face -1 for a rigid block."""
+    if d.edge_offsets[d.block_vertices[blk]] == d.edge_offsets[d.block_vertices[blk] + 1]:
+        return -1, 0.0, 0.0
+    if face < 0:
+        face = _nearest_face(d, blk, px, py)
+    q0 = _face_param(d, face, px, py)
+    if not patch:
+        return face, q0, q0
+    q1 = _face_param(d, face, px + length * dx, py + length * dy)
+    return face, min(q0, q1), max(q0, q1)
+
+
+@njit(cache=True, inline="always")
+def _sides(d, k, c, s):
+    """(face, q0, q1) of contact k's A side, then of its B side (``_side``): A's vertex
+    face for a contact anchored at A's vertex, B's face ``edge_b``, else the nearest."""
+    dax, day, dbx, dby, patch = _patch_direction(d, k, c, s)
+    a, b = c.block_a[k], c.block_b[k]
+    L = c.length[k]
+    fa = -1
+    if c.anchor[k] == ANCHOR_A and c.vertex_a[k] >= 0:
+        v = c.vertex_a[k]                   # the vertex: the face that starts or ends there
+        if patch:
+            v0, v1 = d.block_vertices[a], d.block_vertices[a + 1]
+            nxt = v + 1 if v + 1 < v1 else v0
+            ex, ey = d.vertices[nxt, 0] - d.vertices[v, 0], d.vertices[nxt, 1] - d.vertices[v, 1]
+            fa = v if ex * dax + ey * day > 0.0 else (v - 1 if v > v0 else v1 - 1)
+        else:
+            fa = v
+    ea, qa0, qa1 = _side(d, a, fa, c.point_a[k, 0], c.point_a[k, 1], dax, day, L, patch)
+    eb, qb0, qb1 = _side(d, b, c.edge_b[k], c.point_b[k, 0], c.point_b[k, 1], dbx, dby, L,
+                         patch)
+    return ea, qa0, qa1, eb, qb0, qb1
+
+
+@njit(cache=True, inline="always")
+def _weights(q0, q1, seg):
+    """(w_i, w_j): the shares of a segment's two gridpoints (segment ``seg`` of its face) in
+    a unit load spread evenly over [q0, q1] (segment units, q1 > q0): the integrals of the
+    linear shape functions."""
+    lo, hi = max(q0, float(seg)) - seg, min(q1, seg + 1.0) - seg
+    if hi <= lo:
+        return 0.0, 0.0
+    wj = 0.5 * (hi * hi - lo * lo)
+    return (hi - lo - wj) / (q1 - q0), wj / (q1 - q0)
+
+
+# a contact's stretch shorter than this (segment units) is a point
+POINT = 1e-9
+
+
+@njit(cache=True, inline="always")
+def _stretch(d, e, q0, q1):
+    """(first segment, last + 1, point): the segments of face e that [q0, q1] touches; a
+    point (q1 - q0 < POINT) has one segment."""
+    nseg = d.edge_offsets[e + 1] - d.edge_offsets[e] - 1
+    s0 = min(int(q0), nseg - 1)
+    if q1 - q0 < POINT:
+        return s0, s0 + 1, True
+    return s0, min(max(int(math.ceil(q1)), s0 + 1), nseg), False
+
+
+@njit(cache=True, inline="always")
+def _share(q0, q1, seg, point):
+    if point:
+        return 1.0 - (q0 - seg), q0 - seg
+    return _weights(q0, q1, seg)
+
+
+@njit(cache=True, inline="always")
+def _patch_u(d, e, q0, q1):
+    """Mean displacement (block axes, m) over [q0, q1] of face e (0 for e < 0)."""
+    if e < 0:
+        return 0.0, 0.0
+    ux, uy = 0.0, 0.0
+    s0, s1, point = _stretch(d, e, q0, q1)
+    for seg in range(s0, s1):
+        wi, wj = _share(q0, q1, seg, point)
+        i, j = d.edge_points[d.edge_offsets[e] + seg], d.edge_points[d.edge_offsets[e] + seg + 1]
+        ux += wi * (d.x[i, 0] - d.x0[i, 0]) + wj * (d.x[j, 0] - d.x0[j, 0])
+        uy += wi * (d.x[i, 1] - d.x0[i, 1]) + wj * (d.x[j, 1] - d.x0[j, 1])
+    return ux, uy
+
+
+@njit(cache=True, inline="always")
+def _patch_add(out, d, e, q0, q1, fx, fy, scale):
+    """Spread (fx, fy) (block axes) over [q0, q1] of face e into ``out`` (x scale), with the
+    weights of ``_patch_u`` (the same virtual work)."""
+    s0, s1, point = _stretch(d, e, q0, q1)
+    for seg in range(s0, s1):
+        wi, wj = _share(q0, q1, seg, point)
+        i, j = d.edge_points[d.edge_offsets[e] + seg], d.edge_points[d.edge_offsets[e] + seg + 1]
+        out[i, 0] += scale * wi * fx
+        out[i, 1] += scale * wi * fy
+        out[j, 0] += scale * wj * fx
+        out[j, 1] += scale * wj * fy
+
+
+@njit(cache=True, inline="always")
+def deformed_points(k, c, s, d):
+    """(xa, ya, xb, yb): world points (m) of contact k's two points on deformed blocks,
+    x = pos + R (p + u) with u the mean displacement over the stretch of boundary the
+    contact acts on (module docstring)."""
+    ea, qa0, qa1, eb, qb0, qb1 = _sides(d, k, c, s)
+    uax, uay = _patch_u(d, ea, qa0, qa1)
+    ubx, uby = _patch_u(d, eb, qb0, qb1)
+    xa, ya = body_point(s.pos, s.rot, c.block_a[k], c.point_a[k, 0] + uax,
+                        c.point_a[k, 1] + uay)
+    xb, yb = body_point(s.pos, s.rot, c.block_b[k], c.point_b[k, 0] + ubx,
+                        c.point_b[k, 1] + uby)
+    return xa, ya, xb, yb
+
+
+@njit(cache=True, inline="always")
+def rest_points(k, c, s, d):
+    """After ``forces._reanchor`` put contact k's free point(s) at a deformed place, take the
+    displacement there off, so ``point_a`` and ``point_b`` are again rest (body) points."""
+    ea, qa0, qa1, eb, qb0, qb1 = _sides(d, k, c, s)
+    if c.anchor[k] != ANCHOR_A:
+        ux, uy = _patch_u(d, ea, qa0, qa1)
+        c.point_a[k, 0] -= ux
+        c.point_a[k, 1] -= uy
+    if c.anchor[k] != ANCHOR_B:
+        ux, uy = _patch_u(d, eb, qb0, qb1)
+        c.point_b[k, 0] -= ux
+        c.point_b[k, 1] -= uy
+
+
+@njit(cache=True)
+def add_deformable(d, c, s, p):
+    """The zones' step (module docstring): elastic and contact forces on the gridpoints, the
+    rigid part of that load taken off, damping, leapfrog, mean motion removed."""
+    if d.point_offsets.shape[0] == 0:
+        return
+    dt, alpha = d.control[0], d.control[1]
+    d.f[:] = 0.0
+    add_zone_forces(d)
+    for k in range(c.count[0]):
+        a, b = c.block_a[k], c.block_b[k]
+        ea, qa0, qa1, eb, qb0, qb1 = _sides(d, k, c, s)
+        if ea < 0 and eb < 0:
+            continue
+        nx, ny = contact_normal(s, a, b, c.face[k], c.normal_b[k, 0], c.normal_b[k, 1])
+        L = c.length[k]
+        fx, fy = L * (c.sn[k] * nx - c.ts[k] * ny), L * (c.sn[k] * ny + c.ts[k] * nx)
+        if ea >= 0:
+            lx, ly = unrotate(s.rot, a, fx, fy)
+            _patch_add(d.f, d, ea, qa0, qa1, lx, ly, -1.0)
+        if eb >= 0:
+            lx, ly = unrotate(s.rot, b, fx, fy)
+            _patch_add(d.f, d, eb, qb0, qb1, lx, ly, 1.0)
+    for blk in range(d.point_offsets.shape[0] - 1):
+        g0, g1 = d.point_offsets[blk], d.point_offsets[blk + 1]
+        if g0 < g1 and p.active[blk]:
+            _move_block(d, g0, g1, dt, alpha)
+
+
+@njit(cache=True)
+def _move_block(d, g0, g1, dt, alpha):
+    x, f, m = d.x, d.f, d.mass
+    mt, cx, cy, fx, fy = 0.0, 0.0, 0.0, 0.0, 0.0
+    for i in range(g0, g1):
+        mt += m[i]
+        cx += m[i] * x[i, 0]
+        cy += m[i] * x[i, 1]
+        fx += f[i, 0]
+        fy += f[i, 1]
+    cx /= mt
+    cy /= mt
+    mc, ic = 0.0, 0.0
+    for i in range(g0, g1):
+        rx, ry = x[i, 0] - cx, x[i, 1] - cy
+        mc += rx * f[i, 1] - ry * f[i, 0]
+        ic += m[i] * (rx * rx + ry * ry)
+    ax, ay, al = fx / mt, fy / mt, mc / ic
+    for i in range(g0, g1):
+        rx, ry = x[i, 0] - cx, x[i, 1] - cy
+        f[i, 0] -= m[i] * (ax - al * ry)
+        f[i, 1] -= m[i] * (ay + al * rx)
+        for q in range(2):
+            d.v[i, q] += damped(f[i, q], d.v[i, q], alpha) * d.inv_mass[i] * dt
+            x[i, q] += d.v[i, q] * dt
+    _remove_rigid(d, g0, g1, True)
+    _remove_rigid(d, g0, g1, False)
+
+
+@njit(cache=True)
+def _remove_rigid(d, g0, g1, displacement):
+    """Take the mass-weighted mean translation and linearised rotation about the centroid out
+    of u = x - x0 (``displacement``) or out of v."""
+    m, x0 = d.mass, d.x0
+    mt, ux, uy = 0.0, 0.0, 0.0
+    for i in range(g0, g1):
+        qx = d.x[i, 0] - x0[i, 0] if displacement else d.v[i, 0]
+        qy = d.x[i, 1] - x0[i, 1] if displacement else d.v[i, 1]
+        mt += m[i]
+        ux += m[i] * qx
+        uy += m[i] * qy
+    ux /= mt
+    uy /= mt
+    num, den = 0.0, 0.0
+    for i in range(g0, g1):
+        qx = (d.x[i, 0] - x0[i, 0] if displacement else d.v[i, 0]) - ux
+        qy = (d.x[i, 1] - x0[i, 1] if displacement else d.v[i, 1]) - uy
+        num += m[i] * (x0[i, 0] * qy - x0[i, 1] * qx)
+        den += m[i] * (x0[i, 0] * x0[i, 0] + x0[i, 1] * x0[i, 1])
+    phi = num / den
+    q = d.x if displacement else d.v
+    for i in range(g0, g1):
+        q[i, 0] -= ux - phi * x0[i, 1]
+        q[i, 1] -= uy + phi * x0[i, 0]
+
+
+@njit(cache=True)
+def gridpoint_stiffness(d, c, s):
+    """(ng,) N/m per m: the zones' row bound plus 2 (kn + ks) L of every contact whose force
+    reaches the gridpoint (Gershgorin: the spring couples it to the other block)."""
+    out = d.stiff.copy()
+    tmp = np.zeros((out.shape[0], 2))
+    for k in range(c.count[0]):
+        kk = 2.0 * (c.kn[k] + c.ks[k]) * c.length[k]
+        ea, qa0, qa1, eb, qb0, qb1 = _sides(d, k, c, s)
+        if ea >= 0:
+            _patch_add(tmp, d, ea, qa0, qa1, kk, kk, 1.0)
+        if eb >= 0:
+            _patch_add(tmp, d, eb, qb0, qb1, kk, kk, 1.0)
+    out += tmp[:, 0]
+    return out
+
+
+@njit(cache=True)
+def _displacements(d, c, s, rows):
+    un = np.empty(rows.shape[0])
+    us = np.empty(rows.shape[0])
+    for r in range(rows.shape[0]):
+        k = rows[r]
+        xa, ya, xb, yb = deformed_points(k, c, s, d)
+        nx, ny = contact_normal(s, c.block_a[k], c.block_b[k], c.face[k], c.normal_b[k, 0],
+                                c.normal_b[k, 1])
+        un[r] = (xb - xa) * nx + (yb - ya) * ny
+        us[r] = (yb - ya) * nx - (xb - xa) * ny
+    return un, us
+
+
+def contact_displacements(d, c, s, rows):
+    """(u_n, u_s) of contacts ``rows`` with the deformed points (``detection.displacements``
+    for a model with deformable blocks: a new contact starts stress-free)."""
+    return _displacements(d, c, s, np.asarray(rows, dtype=np.int64))
+
+
+def kinetic_energy(d) -> float:
+    """J/m: 1/2 sum m v^2 of the gridpoints' motion relative to the frame (real masses)."""
+    return float(0.5 * (d.mass * (d.v ** 2).sum(axis=1)).sum())
+
+
+def strain_energy(d) -> float:
+    """J/m: the zones' elastic energy (``zones.strain_energy``)."""
+    if d.area.shape[0] == 0:
+        return 0.0
+    from ..zones import strain_energy as zone_energy
+    return zone_energy(d)
