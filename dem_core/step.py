@@ -19,7 +19,7 @@ One step (``run_steps`` loops it inside numba, no Python in between)::
                                        v  += F_d / m_inertial * dt
     prescribed components:             v   = v_bc
     x += v dt;  theta += omega dt;  rot = R(theta);  checks (stability, search needed)
-    kinetic damping (every ``kinetic_interval`` steps)
+    kinetic damping (every ``kinetic_interval`` steps; a stop also stops the zones)
 
 With threads (``Model(threads=n)``, a non-empty ``Parallel`` bundle) the contact forces run
 ``parallel.add_contact_forces_parallel`` (which also zeroes f, block by block) and the damping
@@ -97,6 +97,8 @@ def run_steps(nsteps, time, integ, s, p, c, strength, cracks, rnd, par, gravity,
             return step, time, UNSTABLE, bad
         time += integ.dt
         kinetic_damping(integ, s, p)
+        if integ.kinetic[2] != 0.0:        # the motion was just stopped: the zones' too
+            dfm.v[:] = 0.0
         if status == NEED_SEARCH:
             return step + 1, time, NEED_SEARCH, bad
     return nsteps, time, DONE, -1

@@ -13,6 +13,8 @@ closed-form checks of the floating frame.
 """
 import math
 
+import numba
+
 import numpy as np
 import pytest
 
@@ -24,11 +26,13 @@ RHO, G, H = 2000.0, 9.81, 1.0
 GLUED = dict(cohesion=1e9, tensile_strength=1e9)
 
 
-def column(E=1e7, nu=0.25, size=0.2, deformable=True, kn=1e10, ks=1e9, **options):
-    """A fixed base [-0.5, 1.5] x [-0.5, 0] and a square [0, 1] x [0, H] on it (group
-    "top"), gravity down."""
-    bs = from_polygons([[(-0.5, -0.5), (1.5, -0.5), (1.5, 0), (-0.5, 0)],
-                        [(0, 0), (1, 0), (1, H), (0, H)]], groups={"base": [0], "top": [1]})
+def column(E=1e7, nu=0.25, size=0.2, deformable=True, kn=1e10, ks=1e9, bases=1, **options):
+    """A fixed base [-0.5, 1.5] x [-0.5, 0] (``bases`` blocks side by side) and a square
+    [0, 1] x [0, H] on it (group "top"), gravity down."""
+    xs = np.linspace(-0.5, 1.5, bases + 1)
+    base = [[(x0, -0.5), (x1, -0.5), (x1, 0), (x0, 0)] for x0, x1 in zip(xs[:-1], xs[1:])]
+    bs = from_polygons(base + [[(0, 0), (1, 0), (1, H), (0, H)]],
+                       groups={"base": list(range(bases)), "top": [bases]})
     m = Model(bs, {"flaw:*": Material(kn=kn, ks=ks, friction=30.0, **GLUED)}, density=RHO,
               block_E=E, block_nu=nu, deformable={"top": size} if deformable else None,
               **options)
@@ -90,6 +94,12 @@ def test_column_settles_by_rho_g_h2_over_2_e_prime():
     stiff = column(2 * E, nu, damping=0.8)
     stiff.cycle(4000)
     assert top_minus_bottom(stiff) == pytest.approx(0.5 * top_minus_bottom(m), rel=0.02)
+    # on three base blocks, whose corners meet the square's bottom face inside it (contacts
+    # at points that are no vertex of the square), the same
+    split = column(E, nu, bases=3, damping=0.8)
+    split.cycle(4000)
+    assert split.contacts.n > 2
+    assert top_minus_bottom(split) == pytest.approx(top_minus_bottom(m), rel=0.01)
     # the rigid block's contacts carry the same weight, and it has no zones
     rigid = column(E, nu, deformable=False, damping=0.8)
     rigid.cycle(4000)
@@ -175,3 +185,35 @@ def test_bad_input_is_refused_naming_it(kw, word):
     args.update(kw)
     with pytest.raises(ValueError, match=word.replace("[", r"\[")):
         Model(bs, {"flaw:*": Material(kn=1e9, ks=1e9, friction=30.0)}, density=RHO, **args)
+
+
+@pytest.mark.skipif(numba.config.NUMBA_NUM_THREADS < 2, reason="needs 2 threads")
+def test_deformable_voronoi_specimen_threaded_is_bit_for_bit_serial(monkeypatch):
+    """Every block of a Voronoi specimen deformable: the threaded contact kernel gives the
+    serial numbers, and every contact of the tessellation acts on both blocks' zones."""
+    from dem_core.components.deformable import _sides
+    from dem_core.geometry import GeometrySpec, Voronoi, build_block_system, rectangle
+
+    monkeypatch.setattr("dem_core.parallel.MIN_CONTACTS", 0)
+    bs = build_block_system(GeometrySpec(
+        [rectangle("rock", 0, 0, 0.1, 0.05), rectangle("base", 0, -0.01, 0.1, 0)],
+        voronoi={"rock": Voronoi(edge_length=0.006, seed=2)}))
+    flaw = Material(kn=1e10, ks=5e9, tensile_strength=2e4, cohesion=4e4, friction=35)
+    runs = []
+    for threads in (1, 2):
+        m = Model(bs, {"flaw:*": flaw, "boundary:*": flaw}, density=2500.0, threads=threads,
+                  block_E=1e9, deformable={"rock": 0.004})
+        m.fix("base")
+        m.set_gravity(300.0)
+        m.cycle(1000)
+        runs.append(m)
+    one, two = runs
+    assert np.abs(one.zone_state.x - one.zone_state.x0).max() > 1e-7
+    for name in ("pos", "theta"):
+        assert np.array_equal(getattr(one.state, name), getattr(two.state, name))
+    assert np.array_equal(one.zone_state.x, two.zone_state.x)
+    c, rock = one.contacts, one.deformable_blocks
+    for k in range(c.n):
+        ea, qa0, qa1, eb, qb0, qb1 = _sides(one.zone_state, k, c, one.state)
+        assert (ea >= 0) == rock[c.block_a[k]] and (eb >= 0) == rock[c.block_b[k]]
+        assert (qa1 > qa0 or ea < 0) and (qb1 > qb0 or eb < 0)   # a stretch, not a point
