@@ -12,6 +12,8 @@ so a crash in one does not stop the rest:
 - leave_out.py       cost of unused parts, flaws only where needed (docs/performance.md)
 - support_cost.py    cost per step of 200 cables and a liner on a pit wall (issue 23; the same
                      measurement in both modes, about 3 min; docs/performance.md)
+- deformable_cost.py cost per step and per simulated second of deformable blocks against
+                     rigid ones, 218 Voronoi blocks (about 1 min; docs/mechanics.md)
 - performance.py     throughput (1 and 2 threads), scaling, step profile, machine limit,
                      continuum s/iteration
 - lab_resolution.py  error against run time of the lab case (UCS, shear peak: block size,
@@ -46,7 +48,7 @@ def main():
     a = ap.parse_args()
     mode = "--full" if a.full else "--quick"
     jobs = [["error_vs_time.py", mode], ["stability_map.py", mode], ["leave_out.py", mode],
-            ["support_cost.py"],
+            ["support_cost.py"], ["deformable_cost.py"],
             ["performance.py", mode], ["numba_pipelines.py"], ["lab_resolution.py", mode],
             ["centrifuge_resolution.py", "--edges", "0.008", "0.006", "0.004"]
             + (["0.003"] if a.full else []), ["bedding_demand.py"], ["regression_numbers.py"]]

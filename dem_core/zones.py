@@ -4,8 +4,9 @@ A deformable block is meshed into triangular zones whose corners are its own gri
 internal discretisation; each block has its own gridpoints, so two blocks meet only through
 contacts). This module is the zones' mechanics on their own: the mesh, the explicit step of
 the gridpoints, energies, the critical time step and the assembled stiffness (for static
-checks). Coupling the boundary gridpoints to the contact system is part 2 and not built yet:
-no ``Model`` or scene uses zones today (docs/mechanics.md, "Deformable zones").
+checks). Part 2, the coupling to the contacts by a floating frame, is
+``components/deformable.py`` (``Model(deformable=...)``; docs/mechanics.md, "Deformable
+blocks, part 2").
 
 Zone mechanics (plane strain, small strain in each zone's co-rotated frame, linear elastic;
 stress **tension positive**, as in the continuum module, unlike the contacts' sn):

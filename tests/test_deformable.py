@@ -11,6 +11,7 @@ closed-form checks of the floating frame.
 - Save / load and snapshot / restore keep the zones (a resumed run is the same to the bit).
 - Bad input raises ValueError naming it.
 """
+import json
 import math
 
 import numba
@@ -217,3 +218,20 @@ def test_deformable_voronoi_specimen_threaded_is_bit_for_bit_serial(monkeypatch)
         ea, qa0, qa1, eb, qb0, qb1 = _sides(one.zone_state, k, c, one.state)
         assert (ea >= 0) == rock[c.block_a[k]] and (eb >= 0) == rock[c.block_b[k]]
         assert (qa1 > qa0 or ea < 0) and (qb1 > qb0 or eb < 0)   # a stretch, not a point
+
+
+def test_a_scene_makes_its_regions_deformable():
+    from dem_core.geometry import GeometrySpec, rectangle
+    from dem_core.scene import Boundary, Scene, build_model
+
+    geo = GeometrySpec([rectangle("base", 0, -0.02, 0.1, 0), rectangle("rock", 0, 0, 0.1, 0.2)])
+    sc = Scene(geo, {"*": Material(kn=1e10, ks=5e9, friction=35, **GLUED)}, density=2500.0,
+               block_E=1e9, boundaries=[Boundary("base")], solver={"deformable": {"rock": 0.05}})
+    again = Scene.from_dict(json.loads(json.dumps(sc.to_dict())))
+    m = build_model(again)
+    rock = m.group("rock")
+    assert m.deformable == {"rock": 0.05}
+    assert m.deformable_blocks[rock].all() and m.deformable_blocks.sum() == rock.size
+    m.set_gravity(50.0)
+    m.cycle(500)
+    assert np.abs(m.zone_state.x - m.zone_state.x0).max() > 0

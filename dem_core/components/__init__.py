@@ -16,6 +16,11 @@ their kernel, with inertial masses that keep them inside that step (``support.se
 | grouted cables and rock bolts | ``Cables`` | ``add_cables`` |
 | shotcrete liners | ``Liners`` | ``add_liners`` |
 | servo-controlled groups (constant force) | ``Servo`` | ``servo_velocities`` |
+| deformable blocks' zones (floating frame) | ``deformable.Deformable`` | ``deformable.add_deformable`` |
+
+``deformable`` is imported as ``dem_core.components.deformable`` (not from this package: it
+imports ``dem_core.zones``, which imports ``components.nodes``). Its kernel also takes the
+contacts, and the contact kernels read its bundle (the contact points move with the zones).
 """
 from .cables import Cables, add_cables, no_cables
 from .liner import Liners, add_liners, no_liners
