@@ -562,10 +562,16 @@ class Model:
         return x[0] - x0[0], x[1] - x0[1], v[0], v[1]
 
     def unbalanced_ratio(self) -> float:
+        """sum |unbalanced force| / sum |forces acting| (``monitor.unbalanced_ratio``); the
+        deformable blocks' gridpoints add their unbalanced (non-rigid) forces to the sum, so
+        a model is in equilibrium when its frames and its zones are."""
         p, c = self.props, self.contacts
+        num, den = support.unbalanced(self)
+        if not zone_kernels.is_empty(self.zone_state):
+            num += zone_kernels.unbalanced(self.zone_state, p.active)
         return monitor.unbalanced_ratio(self.state.force, p.mass, self.gravity, self.load,
                                         p.fixity, p.active, c.n, c.block_a, c.block_b,
-                                        c.length, c.sn, c.ts, *support.unbalanced(self))
+                                        c.length, c.sn, c.ts, num, den)
 
     def kinetic_energy(self) -> float:
         """J/m: the blocks' (real masses), plus the deformable blocks' zones' motion in

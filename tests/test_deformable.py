@@ -42,6 +42,13 @@ def column(E=1e7, nu=0.25, size=0.2, deformable=True, kn=1e10, ks=1e9, bases=1, 
     return m
 
 
+def _rigid_view(m):
+    """``m`` as the unbalanced ratio of its frames alone sees it (an empty zone bundle)."""
+    from types import SimpleNamespace
+    from dem_core.components.deformable import no_deformable
+    return SimpleNamespace(**{**vars(m), "zone_state": no_deformable()})
+
+
 def top_minus_bottom(m):
     """Mean vertical displacement of the top's gridpoints minus the bottom's (m)."""
     z = m.zone_state
@@ -95,6 +102,14 @@ def test_column_settles_by_rho_g_h2_over_2_e_prime():
     stiff = column(2 * E, nu, damping=0.8)
     stiff.cycle(4000)
     assert top_minus_bottom(stiff) == pytest.approx(0.5 * top_minus_bottom(m), rel=0.02)
+    # a solve stops when the zones too are still: their unbalanced forces count
+    solved = column(E, nu, damping=0.8)
+    solved.cycle(20)
+    frames = solved.unbalanced_ratio.__func__(_rigid_view(solved))
+    assert solved.unbalanced_ratio() > frames > 0
+    r = solved.solve(ratio=1e-6, max_steps=20_000)
+    assert r.verdict == "equilibrium"
+    assert top_minus_bottom(solved) == pytest.approx(top_minus_bottom(m), rel=1e-3)
     # on three base blocks, whose corners meet the square's bottom face inside it (contacts
     # at points that are no vertex of the square), the same
     split = column(E, nu, bases=3, damping=0.8)

@@ -69,7 +69,7 @@ from .nodes import damped
 
 __all__ = ["Deformable", "no_deformable", "deformable_bundle", "add_deformable",
            "deformed_points", "rest_points", "gridpoint_stiffness", "contact_displacements",
-           "kinetic_energy", "strain_energy"]
+           "kinetic_energy", "strain_energy", "unbalanced"]
 
 
 class Deformable(NamedTuple):
@@ -513,6 +513,13 @@ def contact_displacements(d, c, s, rows):
     """(u_n, u_s) of contacts ``rows`` with the deformed points (``detection.displacements``
     for a model with deformable blocks: a new contact starts stress-free)."""
     return _displacements(d, c, s, np.asarray(rows, dtype=np.int64))
+
+
+def unbalanced(d, active) -> float:
+    """N/m: sum of |f| (the non-rigid force of the last step, before damping) over the
+    gridpoints of the active deformable blocks."""
+    live = np.repeat(np.asarray(active) > 0, np.diff(d.point_offsets))
+    return float(np.hypot(d.f[live, 0], d.f[live, 1]).sum())
 
 
 def kinetic_energy(d) -> float:
