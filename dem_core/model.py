@@ -142,7 +142,7 @@ class Model:
         self.block_E = self._per_block(block_E, np.inf, "block_E", lower=0.0)
         self.block_nu = self._per_block(block_nu, 0.25, "block_nu", lower=-1.0, upper=0.5)
         self.deformable = self._deformable_sizes(deformable, rounding, edge_elements)
-        self.zone_state = self._zone_bundle(density)     # components.deformable.Deformable
+        self.zone_state = self._zone_bundle()     # components.deformable.Deformable
         self.damping = float(damping)
         if not (isinstance(kinetic_damping, (int, np.integer)) and kinetic_damping >= 0):
             raise ValueError(f"kinetic_damping must be a step interval >= 0 (0: off), got "
@@ -213,8 +213,9 @@ class Model:
             out[str(name)] = float(size)
         return out
 
-    def _zone_bundle(self, density):
-        """The zones of the deformable blocks (empty bundle when none)."""
+    def _zone_bundle(self):
+        """The zones of the deformable blocks (empty bundle when none); their density is
+        their block's (mass / area)."""
         if self.deformable is None:
             return zone_kernels.no_deformable()
         nb = self.n_blocks
