@@ -1,4 +1,4 @@
-"""Local tension in bonded rigid Voronoi rock under its own weight, and what a low T does to it.
+"""Local tension in bonded Voronoi rock under its own weight, and what a low T does to it.
 
 A 60 m x 60 m box of Voronoi blocks (no joints), base fixed, sides on smooth walls, the
 weathered Checkerboard rock's elastic constants (E 3.6 GPa, nu 0.27, density 2700 kg/m3), flaw
@@ -10,6 +10,10 @@ more than 10 m from the sides and the base, 5 m from the top). Then each flaw's 
 value (c 2.5 MPa, friction 35 kept) and the box solved again: how many bonds break.
 
     python benchmarks/gravity_box.py [--edges 6 1.3] [--ratios 0.1 0.4 1.0] [--tensile 25e3 1e5 3e5]
+                                     [--zones 1.3 0.65]
+
+``--zones``: the same boxes with deformable blocks (``Model(deformable=...)``, zones of that
+size; 6 m blocks get zones of a quarter of their edge).
 
 Prints one JSON line per run and writes benchmarks/results/gravity_box.json and .png (the
 distribution of sn / sv per setting). docs/cases/checkerboard.md ("Why 1.3 m flaws fail at
@@ -41,14 +45,15 @@ GROUPS = {"base": {"touching": "bottom"}, "left side": {"touching": "left"},
           "sides": {"minus": ["side walls", "base"]}}
 
 
-def box(edge, ratio, edge_elements=False):
+def box(edge, ratio, edge_elements=False, zone=None):
     kn = kn_from_zone(E, NU, edge)
     geo = GeometrySpec([rectangle("rock", 0.0, 0.0, SIDE, SIDE)],
                        voronoi={"rock": Voronoi(edge_length=edge, seed=1, relax_iterations=10)})
     flaw = Material(kn=kn, ks=ratio * kn, tensile_strength=1e12, cohesion=1e12, friction=35.0)
     return Scene(geo, {"flaw:rock": flaw}, density=RHO, block_E=E, block_nu=NU, groups=GROUPS,
                  boundaries=[Boundary("base"), Boundary("sides", x=True, y=False, rotation=True)],
-                 solver={"mass_scaling": True, "damping": 0.8, "edge_elements": edge_elements})
+                 solver=dict({"mass_scaling": True, "damping": 0.8, "edge_elements": edge_elements},
+                             **({"deformable": {"*": zone}} if zone else {})))
 
 
 def stress_ratio(m):
@@ -60,12 +65,12 @@ def stress_ratio(m):
     return c.sn[:n][inner] / (RHO * STANDARD_GRAVITY * (SIDE - xy[inner, 1]))
 
 
-def run(edge, ratio, edge_elements, tensiles):
+def run(edge, ratio, edge_elements, tensiles, zone=None):
     t0 = time.perf_counter()
-    m = build_model(box(edge, ratio, edge_elements))
+    m = build_model(box(edge, ratio, edge_elements, zone))
     r = run_stages(m, [Gravity(1.0), Solve(ratio=1e-6, max_steps=300_000)])[-1]
     q = stress_ratio(m)
-    row = dict(edge_m=edge, ks_over_kn=ratio, edge_elements=edge_elements,
+    row = dict(edge_m=edge, ks_over_kn=ratio, edge_elements=edge_elements, zone_m=zone,
                blocks=int(m.n_blocks), contacts=int(m.contacts.n), verdict=r.verdict,
                steps=r.steps, contacts_measured=int(q.size),
                mean_sn_over_sv=round(float(q.mean()), 3),
@@ -98,14 +103,17 @@ def figure(rows, path):
     for r in rows:
         q = np.asarray(r["sn_over_sv"])
         lab = (f"{r['edge_m']} m blocks, ks/kn {r['ks_over_kn']}"
-               + (", edge elements" if r["edge_elements"] else ""))
-        ax.plot(q, np.arange(1, q.size + 1) / q.size, label=lab)
+               + (", edge elements" if r["edge_elements"] else "")
+               + (f", deformable ({r['zone_m']} m zones)" if r["zone_m"] else ""))
+        ax.plot(q, np.arange(1, q.size + 1) / q.size, label=lab,
+                ls="--" if r["zone_m"] else "-")
     ax.axvline(0.0, color="k", lw=0.8)
     ax.set_xlim(-0.45, 0.6)
     ax.set_ylim(0.0, 0.3)   # the tension tail
     ax.set_xlabel("contact normal stress / geostatic vertical stress  (compression +)")
     ax.set_ylabel("fraction of contacts below")
-    ax.set_title("Bonded rigid Voronoi box under gravity: contacts in tension (left of 0)")
+    ax.set_title("Bonded Voronoi box under gravity (rigid: solid, deformable: dashed):\n"
+                 "contacts in tension are left of 0", fontsize=10)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
@@ -118,13 +126,18 @@ def main():
     ap.add_argument("--edges", type=float, nargs="+", default=[6.0, 1.3])
     ap.add_argument("--ratios", type=float, nargs="+", default=[0.1, 0.4, 1.0])
     ap.add_argument("--tensile", type=float, nargs="+", default=[25e3, 1e5, 3e5])
+    ap.add_argument("--zones", type=float, nargs="*", default=[1.3, 0.65],
+                    help="zone sizes (m) of the deformable runs of the finest box")
     a = ap.parse_args()
     warnings.simplefilter("ignore")
     rows = []
-    settings = [(e, 0.1, False) for e in a.edges] + [(a.edges[-1], 0.1, True)]
-    settings += [(a.edges[-1], k, False) for k in a.ratios if k != 0.1]
-    for edge, ratio, ee in settings:
-        rows.append(run(edge, ratio, ee, a.tensile))
+    settings = [(e, 0.1, False, None) for e in a.edges] + [(a.edges[-1], 0.1, True, None)]
+    settings += [(a.edges[-1], k, False, None) for k in a.ratios if k != 0.1]
+    if a.zones:
+        settings += [(a.edges[0], 0.1, False, a.edges[0] / 4)]
+        settings += [(a.edges[-1], 0.1, False, z) for z in a.zones]
+    for edge, ratio, ee, zone in settings:
+        rows.append(run(edge, ratio, ee, a.tensile, zone))
         print(json.dumps({k: v for k, v in rows[-1].items() if k != "sn_over_sv"}), flush=True)
     out = Path(__file__).parent / "results"
     out.mkdir(exist_ok=True)
