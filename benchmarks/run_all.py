@@ -24,6 +24,8 @@ so a crash in one does not stop the rest:
                      continuum (docs/comparisons.md)
 - numba_pipelines.py the contact kernel through numba's plain and parallel pipelines (ns per
                      contact, reference counts in the IR; docs/performance.md)
+- gravity_box.py     contact tension of bonded Voronoi rock under its own weight, rigid and
+                     deformable blocks (about 3 min; docs/cases/checkerboard.md)
 - regression_numbers.py   prints the regression-guard numbers (does not rewrite the reference)
 - full only: continuum_scaling.py (slope and footing refinement), throughput.py --scaling,
   column_bending.py (flexural strength of a Voronoi column against beam theory by block size)
@@ -51,7 +53,8 @@ def main():
             ["support_cost.py"], ["deformable_cost.py"],
             ["performance.py", mode], ["numba_pipelines.py"], ["lab_resolution.py", mode],
             ["centrifuge_resolution.py", "--edges", "0.008", "0.006", "0.004"]
-            + (["0.003"] if a.full else []), ["bedding_demand.py"], ["regression_numbers.py"]]
+            + (["0.003"] if a.full else []), ["bedding_demand.py"], ["gravity_box.py"],
+            ["regression_numbers.py"]]
     if a.full:
         jobs += [["continuum_scaling.py"], ["throughput.py", "--scaling"],
                  ["column_bending.py", "--edges", "0.006", "0.004", "0.003"]]
