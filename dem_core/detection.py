@@ -32,6 +32,7 @@ from numba import njit
 
 from .contacts import ANCHOR_A, INTACT, UNBONDED, Contacts
 from .kinematics import body_point, contact_normal, unrotate
+from .components.deformable import deformed_points, no_deformable
 from .rounding import is_rounded, no_rounding, rounded_contact
 
 __all__ = ["update_contacts", "compact", "block_containing", "world_vertices", "grid_pairs",
@@ -53,7 +54,7 @@ def world_vertices(pos, rot, offsets, local):
 
 
 @njit(cache=True)
-def _displacements(c, s, rows, rnd):
+def _displacements(c, s, rows, rnd, dfm):
     un = np.empty(rows.shape[0])
     us = np.empty(rows.shape[0])
     for i in range(rows.shape[0]):
@@ -64,18 +65,23 @@ def _displacements(c, s, rows, rnd):
             xa, ya, nx, ny, gap = rounded_contact(rnd, s, a, b, c.vertex_a[k], c.edge_b[k])
             un[i] = gap
         else:
-            xa, ya = body_point(s.pos, s.rot, a, c.point_a[k, 0], c.point_a[k, 1])
+            if dfm.point_offsets.shape[0] == 0:
+                xa, ya = body_point(s.pos, s.rot, a, c.point_a[k, 0], c.point_a[k, 1])
+            else:                          # points moved by the zones (forces.contact_update)
+                xa, ya, xb, yb = deformed_points(k, c, s, dfm)
             nx, ny = contact_normal(s, a, b, c.face[k], c.normal_b[k, 0], c.normal_b[k, 1])
             un[i] = (xb - xa) * nx + (yb - ya) * ny
         us[i] = (yb - ya) * nx - (xb - xa) * ny
     return un, us
 
 
-def displacements(c: Contacts, s, rows, rnd=None):
+def displacements(c: Contacts, s, rows, rnd=None, dfm=None):
     """(u_n, u_s) of contacts ``rows`` at the pose ``s`` (m; ``contacts.py`` geometry; with
-    rounded corners ``rnd``, ``rounding.py``)."""
+    rounded corners ``rnd``, ``rounding.py``; with deformable blocks ``dfm``, the points the
+    zones have moved, ``components/deformable.py``), as ``forces.contact_update`` sees them."""
     rnd = no_rounding() if rnd is None else rnd
-    return _displacements(c, s, np.asarray(rows, dtype=np.int64), rnd)
+    dfm = no_deformable() if dfm is None else dfm
+    return _displacements(c, s, np.asarray(rows, dtype=np.int64), rnd, dfm)
 
 
 @njit(cache=True)

@@ -733,12 +733,9 @@ class Model:
             c = self.contacts
             rows = np.arange(c.n - n_new, c.n)
             self._set_contact_stiffness(rows)
-            if zone_kernels.is_empty(self.zone_state):
-                c.un[rows], c.us[rows] = detection.displacements(c, self.state, rows,
-                                                                 self.corners)
-            else:                   # the deformed points: a new contact starts unstressed
-                c.un[rows], c.us[rows] = zone_kernels.contact_displacements(
-                    self.zone_state, c, self.state, rows)
+            # (with deformable blocks, at the deformed points: a new contact starts unstressed)
+            c.un[rows], c.us[rows] = detection.displacements(c, self.state, rows, self.corners,
+                                                             self.zone_state)
             c.sn_elastic[rows] = -c.kn[rows] * c.un[rows]
             self.contacts = detection.sort_for_locality(c)
         self.state.pos_search[:] = self.state.pos

@@ -68,7 +68,7 @@ from ..zones import add_zone_forces, mesh_polygon, stiffness_matrix, zones_from_
 from .nodes import damped
 
 __all__ = ["Deformable", "no_deformable", "deformable_bundle", "add_deformable",
-           "deformed_points", "rest_points", "gridpoint_stiffness", "contact_displacements",
+           "deformed_points", "rest_points", "gridpoint_stiffness",
            "kinetic_energy", "strain_energy", "unbalanced"]
 
 
@@ -493,26 +493,6 @@ def gridpoint_stiffness(d, c, s):
             _patch_add(tmp, d, eb, qb0, qb1, kk, kk, 1.0)
     out += tmp[:, 0]
     return out
-
-
-@njit(cache=True)
-def _displacements(d, c, s, rows):
-    un = np.empty(rows.shape[0])
-    us = np.empty(rows.shape[0])
-    for r in range(rows.shape[0]):
-        k = rows[r]
-        xa, ya, xb, yb = deformed_points(k, c, s, d)
-        nx, ny = contact_normal(s, c.block_a[k], c.block_b[k], c.face[k], c.normal_b[k, 0],
-                                c.normal_b[k, 1])
-        un[r] = (xb - xa) * nx + (yb - ya) * ny
-        us[r] = (yb - ya) * nx - (xb - xa) * ny
-    return un, us
-
-
-def contact_displacements(d, c, s, rows):
-    """(u_n, u_s) of contacts ``rows`` with the deformed points (``detection.displacements``
-    for a model with deformable blocks: a new contact starts stress-free)."""
-    return _displacements(d, c, s, np.asarray(rows, dtype=np.int64))
 
 
 def unbalanced(d, active) -> float:
