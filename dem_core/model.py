@@ -228,7 +228,8 @@ class Model:
             raise ValueError(f"deformable block {int(bad[0])} needs a finite block_E (Pa), got "
                              f"{self.block_E[bad[0]]!r}: pass block_E= to Model")
         rho = self.props.mass / self.blocks.area
-        return zone_kernels.deformable_bundle(self.props, size, self.block_E, self.block_nu, rho)
+        return zone_kernels.deformable_bundle(self.props, size, self.block_E, self.block_nu, rho,
+                                              self.blocks.centroid, self.blocks.bounds())
 
     @property
     def deformable_blocks(self) -> np.ndarray:
@@ -345,22 +346,35 @@ class Model:
             raise ValueError(f"bad gravity: g_level={g_level!r}, direction={direction!r}")
         self.gravity = g_level * g * d / np.hypot(*d)
 
-    def fix(self, group, x=True, y=True, rotation=True):
-        """Hold the chosen velocity components of a group at zero (a roller: ``x=False``)."""
+    def fix(self, group, x=True, y=True, rotation=True, at=None):
+        """Hold the chosen velocity components of a group at zero (a roller: ``x=False``);
+        ``at``: where a deformable block is held (``set_velocity``)."""
         self.set_velocity(group, 0.0 if x else None, 0.0 if y else None,
-                          0.0 if rotation else None)
+                          0.0 if rotation else None, at=at)
 
     def free(self, group):
         """Release every prescribed velocity component of a group, and end any servo acting
         on its blocks."""
         idx = self.group(group)
         self.props.fixity[idx] = 0
+        if not zone_kernels.is_empty(self.zone_state):
+            z = self.zone_state
+            z.held[idx] = 0
+            z.point_held[np.repeat(np.isin(np.arange(self.n_blocks), idx),
+                                   np.diff(z.point_offsets))] = 0
         self.servo_groups = [(g, prm) for g, prm in self.servo_groups
                              if not np.isin(g, idx).any()]
         self._update_timestep()
 
-    def set_velocity(self, group, vx=None, vy=None, omega=0.0):
-        """Prescribe velocities (m/s, rad/s) of a group; None leaves that component free."""
+    def set_velocity(self, group, vx=None, vy=None, omega=0.0, at=None):
+        """Prescribe velocities (m/s, rad/s) of a group; None leaves that component free.
+
+        A deformable block (``deformable``) so held keeps its frame moving at the prescribed
+        velocity in every component (the free ones at 0), and its gridpoints on the sides
+        ``at`` of the model's bounding box ("left", "right", "bottom", "top", or a list of
+        them; None: any side) are held in the prescribed directions of x and y; its other
+        gridpoints carry the rest of its motion, under its whole load (a block with fewer than
+        two gridpoints there is held whole; docs/mechanics.md, "Held deformable blocks")."""
         idx = self.group(group)
         for bit, col, v in ((FIX_X, 0, vx), (FIX_Y, 1, vy), (FIX_ROT, 2, omega)):
             if v is None:
@@ -373,7 +387,17 @@ class Model:
                 self.state.vel[idx, col] = v
             else:
                 self.state.omega[idx] = v
+        self._hold_zones(idx, vx is not None, vy is not None, at)
         self._update_timestep()
+
+    def _hold_zones(self, idx, x, y, at):
+        """The deformable blocks among ``idx`` held in x and/or y at the box sides ``at``."""
+        soft = idx[self.deformable_blocks[idx]]
+        if soft.size == 0 or not (x or y):
+            return
+        zone_kernels.hold_points(self.zone_state, soft, (FIX_X if x else 0) | (FIX_Y if y else 0),
+                                 _sides(at))
+        self.props.fixity[soft] = FIX_X | FIX_Y | FIX_ROT
 
     def apply_load(self, group, fx=0.0, fy=0.0, moment=0.0):
         """A constant total force (N/m) on a group, shared by mass; a moment (N m/m) per block."""
@@ -569,7 +593,8 @@ class Model:
         p, c = self.props, self.contacts
         num, den = support.unbalanced(self)
         if not zone_kernels.is_empty(self.zone_state):
-            num += zone_kernels.unbalanced(self.zone_state, p.active)
+            zn, zd = zone_kernels.unbalanced(self.zone_state, p.active, self.gravity)
+            num, den = num + zn, den + zd
         return monitor.unbalanced_ratio(self.state.force, p.mass, self.gravity, self.load,
                                         p.fixity, p.active, c.n, c.block_a, c.block_b,
                                         c.length, c.sn, c.ts, num, den)
@@ -647,7 +672,7 @@ class Model:
 
     def _run(self, n):
         support.set_controls(self)
-        self.zone_state.control[:] = (self.dt, self.damping)
+        self.zone_state.control[:] = (self.dt, self.damping, *self.gravity)
         steps, self.time, status, bad = stepper.run_steps(
             n, self.time, self._integrator(), self.state, self.props, self.contacts,
             self.table.strength_array(), self.cracks, self.corners, self._parallel(),
@@ -777,3 +802,15 @@ class Model:
                 f"(centroid {self.state.pos[b].round(6).tolist()}, {mine.size} contacts, "
                 f"velocity {self.state.vel[b].tolist()}) moved too far in one step or became "
                 f"NaN. Likely cause: {'; '.join(cause)}.")
+
+
+def _sides(at):
+    """``at`` of ``set_velocity`` checked: None, a side name or a list of them."""
+    if at is None:
+        return None
+    names = [at] if isinstance(at, str) else list(at)
+    bad = [n for n in names if n not in zone_kernels.BOX_SIDES]
+    if bad or not names:
+        raise ValueError(f"at must name sides of the model's box {sorted(zone_kernels.BOX_SIDES)}"
+                         f", got {at!r}")
+    return names

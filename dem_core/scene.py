@@ -32,7 +32,8 @@ from .geometry import GeometrySpec
 from .materials import Material, material_table
 from .stages import check_stages, stage_from_dict, stage_to_dict
 
-__all__ = ["Scene", "Boundary", "build_model", "resolve_groups", "GROUP_SELECTORS"]
+__all__ = ["Scene", "Boundary", "build_model", "resolve_groups", "group_sides",
+           "GROUP_SELECTORS"]
 
 GROUP_SELECTORS = ("touching", "region", "inside", "union", "minus")
 SIDES = ("bottom", "top", "left", "right")
@@ -186,10 +187,28 @@ def build_model(scene: Scene, blocks=None, **options):
     model = Model(blocks, scene.materials, density=scene.density, block_E=scene.block_E,
                   block_nu=scene.block_nu, **solver)
     for b in scene.boundaries:
-        model.fix(b.group, x=b.x, y=b.y, rotation=b.rotation)
+        model.fix(b.group, x=b.x, y=b.y, rotation=b.rotation, at=group_sides(scene, b.group))
     for name, xy in scene.points.items():
         model.add_history_point(name, xy)
     return model
+
+
+def group_sides(scene: Scene, name):
+    """The sides of the model's box a group is defined by (a list of "left", "right", "bottom",
+    "top"), or None when it is not (a region, a polygon, or a group the scene does not define):
+    where a held deformable block is held (``Model.set_velocity``)."""
+    sel = scene.groups.get(name)
+    if sel is None:
+        return None
+    (kind, arg), = sel.items()
+    if kind == "touching":
+        return [arg]
+    if kind in ("union", "minus"):
+        parts = [group_sides(scene, n) for n in (arg if kind == "union" else arg[:1])]
+        if any(p is None for p in parts):
+            return None
+        return sorted({s for p in parts for s in p})
+    return None
 
 
 def resolve_groups(scene: Scene, blocks) -> dict:

@@ -50,7 +50,7 @@ import numpy as np
 from numba import njit, prange
 
 from .components import add_cables, add_gravity, add_liners, add_loads, add_water, servo_velocities
-from .components.deformable import add_deformable
+from .components.deformable import add_deformable, zone_kinetic_energy
 from .components.nodes import damped
 from .forces import add_contact_forces
 from .kinematics import body_point, set_rotation
@@ -96,7 +96,7 @@ def run_steps(nsteps, time, integ, s, p, c, strength, cracks, rnd, par, gravity,
         if status == UNSTABLE:
             return step, time, UNSTABLE, bad
         time += integ.dt
-        kinetic_damping(integ, s, p)
+        kinetic_damping(integ, s, p, dfm)
         if integ.kinetic[2] != 0.0:        # the motion was just stopped: the zones' too
             dfm.v[:] = 0.0
         if status == NEED_SEARCH:
@@ -196,8 +196,9 @@ def advance_parallel(s, p, integ, kick):
 
 
 @njit(cache=True)
-def kinetic_damping(integ, s, p):
-    """Every ``kinetic_interval`` steps: stop all free motion after a kinetic-energy peak."""
+def kinetic_damping(integ, s, p, dfm):
+    """Every ``kinetic_interval`` steps: stop all free motion after a kinetic-energy peak
+    (the blocks' and the deformable blocks' gridpoints')."""
     if integ.kinetic_interval <= 0:
         return
     k = integ.kinetic
@@ -205,7 +206,7 @@ def kinetic_damping(integ, s, p):
     if k[1] < integ.kinetic_interval:
         return
     k[1] = 0.0
-    ke = free_kinetic_energy(s, p)
+    ke = free_kinetic_energy(s, p) + zone_kinetic_energy(dfm, p.active)
     if ke < k[0]:
         stop_free_motion(s, p)
         ke = 0.0

@@ -64,10 +64,12 @@ from numba import njit
 
 from ..contacts import ANCHOR_A, ANCHOR_B, ANCHOR_MID
 from ..kinematics import body_point, contact_normal, rotate, unrotate
-from ..zones import add_zone_forces, mesh_polygon, stiffness_matrix, zones_from_mesh
+from ..zone_mesh import mesh_polygons
+from ..zones import add_zone_forces, stiffness_matrix, zones_from_mesh
 from .nodes import damped
 
 __all__ = ["Deformable", "no_deformable", "deformable_bundle", "add_deformable",
+           "zone_kinetic_energy", "hold_points", "BOX_SIDES",
            "deformed_points", "rest_points", "gridpoint_stiffness",
            "kinetic_energy", "strain_energy", "unbalanced"]
 
@@ -95,7 +97,13 @@ class Deformable(NamedTuple):
         the face that starts at polygon vertex j (``BlockProps.local_vertices``), in order from
         vertex j to the next: edge_points[edge_offsets[j]:edge_offsets[j + 1]] (empty for a
         rigid block's faces); the first is vertex j's own gridpoint.
-    control : (2,) float64. dt (s) and the local damping alpha, set before each run.
+    control : (4,) float64. dt (s), the local damping alpha and the gravity (gx, gy) in the
+        world (m/s2), set before each run.
+    held : (nb,) int8. 1 for a deformable block held by a boundary condition (``Model.fix``,
+        ``set_velocity``): its frame is held whole and its zones take its whole load.
+    point_held : (ng,) int8. Bits FIX_X, FIX_Y: the gridpoint's held directions (block axes).
+    box_sides : (ng,) int8. Bits 1, 2, 4, 8: the gridpoint lay on the left, right, bottom, top
+        side of the model's bounding box at the start (``BOX_SIDES``).
     """
 
     x0: np.ndarray
@@ -117,6 +125,9 @@ class Deformable(NamedTuple):
     edge_offsets: np.ndarray
     edge_points: np.ndarray
     control: np.ndarray
+    held: np.ndarray
+    point_held: np.ndarray
+    box_sides: np.ndarray
 
 
 def no_deformable() -> Deformable:
@@ -125,39 +136,36 @@ def no_deformable() -> Deformable:
     return Deformable(v2, v2.copy(), v2.copy(), v2.copy(), v1, v1.copy(), v1.copy(),
                       np.zeros((0, 3), np.int64), np.zeros((0, 6)), v1.copy(), np.zeros((0, 2)),
                       np.zeros((0, 3)), i1, i1.copy(), i1.copy(), np.zeros((0, 2)), i1.copy(),
-                      i1.copy(), np.zeros(2))
+                      i1.copy(), np.zeros(4), np.zeros(0, np.int8), np.zeros(0, np.int8),
+                      np.zeros(0, np.int8))
 
 
 def is_empty(d: Deformable) -> bool:
     return d.point_offsets.shape[0] == 0
 
 
-def deformable_bundle(props, size, E, nu, density) -> Deformable:
+def deformable_bundle(props, size, E, nu, density, origin=None, bounds=None) -> Deformable:
     """The zones of the blocks whose ``size`` (nb,) is finite (zone size, m; NaN: rigid),
-    meshed by ``zones.mesh_polygon`` in their body frames, with E (Pa), nu and density
-    (kg/m^3), each (nb,)."""
+    meshed by ``zone_mesh.mesh_polygons`` (gmsh) in their body frames, with E (Pa), nu and
+    density (kg/m^3), each (nb,). ``origin`` (nb, 2), m: the blocks' centroids in the world
+    (their frames are not turned yet) and ``bounds`` (x0, y0, x1, y1), m: the model's box, to
+    mark the gridpoints on it (``box_sides``; none without them)."""
     off = props.vertex_offsets
     nb = len(off) - 1
     nv = int(off[-1])
     pts_all, tri_all, blk_all, E_z, nu_z, rho_z = [], [], [], [], [], []
     point_offsets = np.zeros(nb + 1, np.int64)
     edge_lists = [[] for _ in range(nv)]
+    soft = np.flatnonzero(np.isfinite(size))
+    meshes = mesh_polygons([props.local_vertices[off[b]:off[b + 1]] for b in soft],
+                           [float(size[b]) for b in soft])
+    mesh_of = dict(zip(soft.tolist(), meshes))
     ng = 0
     for b in range(nb):
-        if np.isfinite(size[b]):
-            poly = props.local_vertices[off[b]:off[b + 1]]
-            pts, tri = mesh_polygon(poly, float(size[b]))
-            nseg = int(round(np.sqrt(len(tri) / len(poly))))      # 4^k triangles per fan piece
-            scale = float(np.abs(poly).max())
-            for j in range(len(poly)):
-                p0, p1 = poly[j], poly[(j + 1) % len(poly)]
-                along = p0 + np.outer(np.arange(nseg + 1) / nseg, p1 - p0)
-                d = np.linalg.norm(pts[None, :, :] - along[:, None, :], axis=2)
-                idx = d.argmin(axis=1)
-                if not np.all(d[np.arange(nseg + 1), idx] <= 1e-7 * scale):
-                    raise ValueError(f"deformable block {b}: face {j} is not split into "
-                                     f"{nseg} equal boundary segments by its mesh")
-                edge_lists[off[b] + j] = (idx + ng).tolist()
+        if b in mesh_of:
+            pts, tri, faces = mesh_of[b]
+            for j, face in enumerate(faces):
+                edge_lists[off[b] + j] = (face + ng).tolist()
             pts_all.append(pts)
             tri_all.append(tri + ng)
             blk_all.append(np.full(len(tri), b, np.int64))
@@ -178,7 +186,41 @@ def deformable_bundle(props, size, E, nu, density) -> Deformable:
     return Deformable(z.x0, z.x, z.v, z.f, z.mass, z.inv_mass.copy(), rows, z.nodes, z.bc, z.area,
                       z.lame, z.stress, z.block, point_offsets, np.asarray(off, np.int64).copy(),
                       np.asarray(props.local_vertices, np.float64).copy(), edge_offsets, edge_points,
-                      np.zeros(2))
+                      np.zeros(4), np.zeros(nb, np.int8), np.zeros(ng, np.int8),
+                      _box_sides(z.x0, point_offsets, origin, bounds))
+
+
+# bits of Deformable.box_sides
+BOX_SIDES = {"left": 1, "right": 2, "bottom": 4, "top": 8}
+
+
+def _box_sides(x0, point_offsets, origin, bounds):
+    """(ng,) int8: ``BOX_SIDES`` bits of the sides of the model's box (x0, y0, x1, y1) each
+    gridpoint lies on (within 1e-9 of the box's size)."""
+    out = np.zeros(len(x0), np.int8)
+    if origin is None or bounds is None:
+        return out
+    bx0, by0, bx1, by1 = bounds
+    tol = 1e-9 * max(bx1 - bx0, by1 - by0)
+    owner = np.repeat(np.arange(len(point_offsets) - 1), np.diff(point_offsets))
+    w = x0 + np.asarray(origin, float)[owner]
+    for (axis, edge), bit in zip(((0, bx0), (0, bx1), (1, by0), (1, by1)), BOX_SIDES.values()):
+        out[np.abs(w[:, axis] - edge) <= tol] |= bit
+    return out
+
+
+def hold_points(d, blocks, bits, sides=None):
+    """Hold deformable ``blocks`` (an index array) in the FIX_X / FIX_Y ``bits``: each held
+    whole (``held``), with its gridpoints on the box ``sides`` (names of ``BOX_SIDES``; None:
+    any side) held along ``bits``; a block with fewer than two such gridpoints has all of
+    them held (it is held whole, as a rigid block would be)."""
+    mask = sum(BOX_SIDES[n] for n in BOX_SIDES) if sides is None else \
+        sum(BOX_SIDES[n] for n in sides)
+    for b in blocks:
+        g0, g1 = d.point_offsets[b], d.point_offsets[b + 1]
+        on = (d.box_sides[g0:g1] & mask) != 0
+        d.point_held[g0:g1][on if on.sum() >= 2 else slice(None)] |= bits
+        d.held[b] = 1
 
 
 @njit(cache=True, inline="always")
@@ -419,7 +461,26 @@ def add_deformable(d, c, s, p):
     for blk in range(d.point_offsets.shape[0] - 1):
         g0, g1 = d.point_offsets[blk], d.point_offsets[blk + 1]
         if g0 < g1 and p.active[blk]:
-            _move_block(d, g0, g1, dt, alpha)
+            if d.held[blk] != 0:
+                gx, gy = unrotate(s.rot, blk, d.control[2], d.control[3])
+                _move_held(d, g0, g1, dt, alpha, gx, gy)
+            else:
+                _move_block(d, g0, g1, dt, alpha)
+
+
+@njit(cache=True, inline="always")
+def _move_held(d, g0, g1, dt, alpha, gx, gy):
+    """A held block's gridpoints (its frame does not move): the whole load, the weight
+    (gx, gy in block axes) included; ``point_held`` directions stay at rest."""
+    for i in range(g0, g1):
+        d.f[i, 0] += d.mass[i] * gx
+        d.f[i, 1] += d.mass[i] * gy
+        for q in range(2):
+            if d.point_held[i] & (1 << q):
+                d.v[i, q] = 0.0
+            else:
+                d.v[i, q] += damped(d.f[i, q], d.v[i, q], alpha) * d.inv_mass[i] * dt
+            d.x[i, q] += d.v[i, q] * dt
 
 
 @njit(cache=True, inline="always")
@@ -495,11 +556,33 @@ def gridpoint_stiffness(d, c, s):
     return out
 
 
-def unbalanced(d, active) -> float:
-    """N/m: sum of |f| (the non-rigid force of the last step, before damping) over the
-    gridpoints of the active deformable blocks."""
-    live = np.repeat(np.asarray(active) > 0, np.diff(d.point_offsets))
-    return float(np.hypot(d.f[live, 0], d.f[live, 1]).sum())
+def unbalanced(d, active, gravity):
+    """(N/m, N/m): sum of |f| (the non-rigid force of the last step, before damping) over the
+    gridpoints of the active deformable blocks, less the held components (reactions); and what
+    the held blocks add to the ratio's denominator (``monitor.unbalanced_ratio``): their
+    gridpoints' weight and reactions (a held block is not in the blocks' sum)."""
+    counts = np.diff(d.point_offsets)
+    live = np.repeat(np.asarray(active) > 0, counts)
+    held = np.stack([d.point_held & 1, d.point_held & 2], axis=1) > 0
+    free = np.where(held, 0.0, d.f)
+    reaction = np.where(held, d.f, 0.0)
+    num = float(np.hypot(free[live, 0], free[live, 1]).sum())
+    on = live & np.repeat(d.held > 0, counts)
+    den = float(d.mass[on].sum() * np.hypot(*gravity) + np.hypot(reaction[on, 0],
+                                                                   reaction[on, 1]).sum())
+    return num, den
+
+
+@njit(cache=True)
+def zone_kinetic_energy(d, active):
+    """J/m: 1/2 sum v^2 / inv_mass over the gridpoints of active blocks (inertial masses, as
+    ``step.free_kinetic_energy``): the zones' share of the kinetic-damping peak test."""
+    ke = 0.0
+    for blk in range(d.point_offsets.shape[0] - 1):
+        if active[blk]:
+            for i in range(d.point_offsets[blk], d.point_offsets[blk + 1]):
+                ke += (d.v[i, 0] * d.v[i, 0] + d.v[i, 1] * d.v[i, 1]) / d.inv_mass[i]
+    return 0.5 * ke
 
 
 def kinetic_energy(d) -> float:
