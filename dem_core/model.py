@@ -329,12 +329,14 @@ class Model:
         """The gridpoints' largest omega^2 (Gershgorin: zones plus 2 (kn + ks) L of the
         contacts each takes a share of, over its mass); with mass scaling (``target``, the
         blocks' median bound) a gridpoint above the target gets that much more inertial
-        mass, as a block does."""
+        mass, as a block does (when no block is free, the zones' own median is the target)."""
         z, p = self.zone_state, self.props
         w2 = zone_kernels.gridpoint_stiffness(z, self.contacts, self.state) / z.mass
+        live = np.repeat(p.active > 0, np.diff(z.point_offsets))
+        if target is None and self.mass_scaling and live.any():
+            target = float(np.median(w2[live]))       # no free block: the zones' own median
         scale = np.ones_like(w2) if target is None else np.maximum(1.0, w2 / target)
         z.inv_mass[:] = 1.0 / (z.mass * scale)
-        live = np.repeat(p.active > 0, np.diff(z.point_offsets))
         return float((w2 / scale)[live].max()) if live.any() else 0.0
 
     # ----------------------------------------------------------------- loading
@@ -577,13 +579,20 @@ class Model:
                                           -s * local[0] + c * local[1]]), xy.copy())
 
     def point_motion(self, name):
-        """(ux, uy, vx, vy) of a history point now, m and m/s."""
+        """(ux, uy, vx, vy) of a history point now, m and m/s (on a deformable block, the
+        frame's motion plus its zones' at the point)."""
         b, r, x0 = self.points[name]
         c, s = self.state.rot[b]
-        x = self.state.pos[b] + np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
+        rx, ry = r
+        zvx = zvy = 0.0
+        if not zone_kernels.is_empty(self.zone_state):    # a deformable block: its zones too
+            ux, uy, zvx, zvy = zone_kernels.point_motion(self.zone_state, b, r)
+            rx, ry = rx + ux, ry + uy
+        x = self.state.pos[b] + np.array([c * rx - s * ry, s * rx + c * ry])
         w = self.state.omega[b]
         v = self.state.vel[b] + w * np.array([-(x[1] - self.state.pos[b, 1]),
                                               x[0] - self.state.pos[b, 0]])
+        v += np.array([c * zvx - s * zvy, s * zvx + c * zvy])
         return x[0] - x0[0], x[1] - x0[1], v[0], v[1]
 
     def unbalanced_ratio(self) -> float:

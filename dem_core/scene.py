@@ -32,7 +32,7 @@ from .geometry import GeometrySpec
 from .materials import Material, material_table
 from .stages import check_stages, stage_from_dict, stage_to_dict
 
-__all__ = ["Scene", "Boundary", "build_model", "resolve_groups", "group_sides",
+__all__ = ["Scene", "Boundary", "build_model", "conventional", "resolve_groups", "group_sides",
            "GROUP_SELECTORS"]
 
 GROUP_SELECTORS = ("touching", "region", "inside", "union", "minus")
@@ -187,10 +187,35 @@ def build_model(scene: Scene, blocks=None, **options):
     model = Model(blocks, scene.materials, density=scene.density, block_E=scene.block_E,
                   block_nu=scene.block_nu, **solver)
     for b in scene.boundaries:
-        model.fix(b.group, x=b.x, y=b.y, rotation=b.rotation, at=group_sides(scene, b.group))
+        sides = group_sides(scene, b.group)
+        model.fix(b.group, x=b.x, y=b.y, rotation=b.rotation, at=sides)
+        # a deformable block is held per gridpoint, so every one on those sides is held there,
+        # also one a "minus" took out of the group (a corner block of the base and a roller)
+        if sides and model.deformable_blocks.any():
+            near = np.unique(np.concatenate([blocks.touching(s) for s in sides]))
+            extra = np.setdiff1d(near[model.deformable_blocks[near]], model.group(b.group))
+            if extra.size:
+                model.fix(extra, x=b.x, y=b.y, rotation=b.rotation, at=sides)
     for name, xy in scene.points.items():
         model.add_history_point(name, xy)
     return model
+
+
+def conventional(scene: Scene, zone_size: float) -> Scene:
+    """The thesis's conventional model of a scene (issue 24 item 4; thesis 4.2.3: UDEC with
+    the joints only): the same regions, joints, materials, groups, boundaries, points and
+    stages, without the Voronoi flaws (each region is the blocks its joints cut it into), every
+    block deformable with zones of ``zone_size`` m (elastic, the scene's ``block_E`` and
+    ``block_nu``; docs/mechanics.md, "The conventional model"). The solver options deformable
+    blocks do not take yet (``rounding``, ``edge_elements``) are dropped."""
+    if scene.block_E is None:
+        raise ValueError(f"conventional: scene {scene.name!r} has rigid blocks (block_E None); "
+                         "its conventional model needs their modulus")
+    _positive("conventional zone size (m)", zone_size)
+    solver = {k: v for k, v in scene.solver.items() if k not in ("rounding", "edge_elements")}
+    solver["deformable"] = {"*": float(zone_size)}
+    return dataclasses.replace(scene, geometry=dataclasses.replace(scene.geometry, voronoi={}),
+                               solver=solver, name=f"{scene.name} conventional")
 
 
 def group_sides(scene: Scene, name):

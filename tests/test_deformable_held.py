@@ -110,3 +110,16 @@ def test_gmsh_zone_mesh_refuses_bad_input():
         mesh_polygons([sq], [0.0])
     with pytest.raises(ValueError, match="counter-clockwise"):
         mesh_polygons([sq[::-1]], [0.5])
+
+
+def test_a_history_point_on_a_held_block_follows_its_zones():
+    m = _one_block(1.0, 10.0, 0.25, damping=0.0, kinetic_damping=10)
+    m.fix("rock", at="bottom")
+    m.add_history_point("top", (0.5, 10.0 - 1e-6))
+    m.set_gravity(1.0)
+    m.cycle(3000)
+    z = m.zone_state
+    top = np.flatnonzero(np.abs(z.x0[:, 1] - z.x0[:, 1].max()) < 1e-9)
+    uy = float(np.mean(z.x[top, 1] - z.x0[top, 1]))
+    assert uy < -1e-4                                   # the frame is held; the zones moved
+    assert m.point_motion("top")[1] == pytest.approx(uy, rel=0.01)

@@ -69,7 +69,7 @@ from ..zones import add_zone_forces, stiffness_matrix, zones_from_mesh
 from .nodes import damped
 
 __all__ = ["Deformable", "no_deformable", "deformable_bundle", "add_deformable",
-           "zone_kinetic_energy", "hold_points", "BOX_SIDES",
+           "zone_kinetic_energy", "hold_points", "point_motion", "BOX_SIDES",
            "deformed_points", "rest_points", "gridpoint_stiffness",
            "kinetic_energy", "strain_energy", "unbalanced"]
 
@@ -571,6 +571,27 @@ def unbalanced(d, active, gravity):
     den = float(d.mass[on].sum() * np.hypot(*gravity) + np.hypot(reaction[on, 0],
                                                                    reaction[on, 1]).sum())
     return num, den
+
+
+def point_motion(d, b, r):
+    """(ux, uy, vx, vy), block axes: the zones' displacement and velocity at body point r of
+    block b (linear in the zone that contains r at rest, else the nearest; zeros for a rigid
+    block)."""
+    zones = np.flatnonzero(d.zone_block == b)
+    if zones.size == 0:
+        return 0.0, 0.0, 0.0, 0.0
+    p = d.x0[d.nodes[zones]]                                  # (n, 3, 2)
+    a, e1, e2 = p[:, 0], p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
+    det = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0]
+    q = np.asarray(r, float) - a
+    l1 = (q[:, 0] * e2[:, 1] - q[:, 1] * e2[:, 0]) / det
+    l2 = (e1[:, 0] * q[:, 1] - e1[:, 1] * q[:, 0]) / det
+    w = np.stack([1 - l1 - l2, l1, l2], axis=1)
+    k = int(np.argmax(w.min(axis=1)))                         # inside, or the least outside
+    g = d.nodes[zones[k]]
+    u = w[k] @ (d.x[g] - d.x0[g])
+    v = w[k] @ d.v[g]
+    return float(u[0]), float(u[1]), float(v[0]), float(v[1])
 
 
 @njit(cache=True)
