@@ -196,6 +196,14 @@ def test_save_load_and_a_scene_keep_the_strength(tmp_path):
     assert m.zone_state.yielded.any()
     for name in ("x", "plastic", "yielded", "strength", "stress"):
         assert np.array_equal(getattr(back.zone_state, name), getattr(m.zone_state, name))
+    # a file without the zones' new fields (written before them) loads as elastic zones
+    with np.load(path) as f:
+        old = {k: f[k] for k in f.files if k not in ("zone_state.strength",
+                                                     "zone_state.plastic", "zone_state.yielded")}
+    np.savez(tmp_path / "old.npz", **old)
+    before = Model.load(tmp_path / "old.npz").zone_state
+    assert np.isinf(before.strength[:, 0]).all() and before.strength.shape == (64, 4)
+    assert not before.plastic.any() and before.yielded.dtype == np.int8
     geo = GeometrySpec([rectangle("base", 0, -0.02, 0.1, 0), rectangle("rock", 0, 0, 0.1, 0.2)])
     sc = Scene(geo, {"*": Material(kn=1e10, ks=5e9, friction=35)}, density=2500.0,
                block_E=1e9, boundaries=[Boundary("base")],
