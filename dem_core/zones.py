@@ -27,8 +27,9 @@ elastic, perfectly plastic; docs/mechanics.md, "Mohr-Coulomb zones"). A rigid ro
 size strains nothing; for small rotations this is the linear triangle (``stiffness_matrix``,
 elastic). ``Zones.stress`` is reported in the world frame (R s R^T). The mass of each zone is
 lumped in thirds on its nodes. The gridpoints move by the same leapfrog and local damping as
-the blocks (``components.nodes.damped``). The critical step is 2 / omega_max with omega_max^2 bounded by
-Gershgorin's theorem on M^-1 K (the largest row sum of |K| / m), times ``safety``. Reference:
+the blocks (``components.nodes.damped``). The critical step is 2 / omega_max with
+omega_max^2 bounded by Gershgorin's theorem on M^-1 K (the largest row sum of |K| / m), times
+``safety`` (a yielding zone is no stiffer). Reference:
 Zienkiewicz & Taylor, The Finite Element Method, vol. 1, ch. 6 (the linear triangle);
 Crisfield, Non-linear Finite Element Analysis, vol. 1, ch. 7 (co-rotational elements); the
 UDEC manual, "deformable blocks".
