@@ -69,6 +69,16 @@ def load_parts(path) -> dict:
                          f"{type(e).__name__}: {e}") from None
 
 
+def _bundle(d, name, cls):
+    """Bundle ``name`` of the file's arrays ``d``; fields added since the file was written
+    come from ``cls.fields_of_old_files(fields the file has)``, if the class has it (else
+    the KeyError says the file is not a model file)."""
+    have = {f: d[f"{name}.{f}"] for f in cls._fields if f"{name}.{f}" in d}
+    if len(have) < len(cls._fields) and hasattr(cls, "fields_of_old_files"):
+        have = {**cls.fields_of_old_files(have), **have}
+    return cls(**{f: have[f] for f in cls._fields})
+
+
 def _parts(path) -> dict:
     with np.load(path) as z:
         d = {k: z[k] for k in z.files}
@@ -80,8 +90,8 @@ def _parts(path) -> dict:
                          region_names=meta["region_names"],
                          groups={g: d[f"group.{g}"] for g in meta["groups"]},
                          material_names=meta["material_names"])
-    bundles = {name: cls(**{f: d[f"{name}.{f}"] for f in cls._fields})
-               for name, cls in _BUNDLES.items() if f"{name}.{cls._fields[0]}" in d}
+    bundles = {name: _bundle(d, name, cls) for name, cls in _BUNDLES.items()
+               if f"{name}.{cls._fields[0]}" in d}
     points = {}
     for name in meta["points"]:
         p = d[f"point.{name}"]

@@ -30,6 +30,7 @@ from . import parallel
 from .parallel import no_parallel, parallel_bundle
 from .rounding import rounding_bundle
 from .water import WaterTable
+from .zone_plasticity import strength_table
 from .state import (FIX_ROT, FIX_X, FIX_Y, CrackLog, Integrator, block_props,
                     state_at_rest)
 
@@ -108,13 +109,21 @@ class Model:
         forces (``components/deformable.py``, docs/mechanics.md). Its contacts then have no
         series block compliance. None (default): every block rigid, the model bit for bit as
         without the option. Not with ``rounding`` or ``edge_elements`` (ValueError).
+    zone_strength : dict, optional
+        Mohr-Coulomb zones with a tension cut-off in the deformable blocks: {block group name,
+        or "*": dict(cohesion=Pa, friction=deg, dilation=deg (default 0), tensile=Pa
+        (default the apex c / tan phi))}, applied in the order given (a later entry wins for
+        a block in both); the zones of other deformable blocks stay elastic (None, default:
+        all elastic, bit for bit as without the option). Plane strain, in-plane principal
+        stresses, perfectly plastic (``zone_plasticity``, docs/mechanics.md). Needs
+        ``deformable``.
     """
 
     def __init__(self, blocks: BlockSystem, materials: dict, density, block_E=None,
                  block_nu=0.25, unbreakable=None, damping=0.8, safety=0.5, mass_scaling=False,
                  dt=None, search_margin=None, new_contact_material=None, history_every=100,
                  threads=1, kinetic_damping=0, edge_elements=False, rounding=0.0,
-                 deformable=None):
+                 deformable=None, zone_strength=None):
         if not isinstance(blocks, BlockSystem):
             raise ValueError(f"blocks must be a BlockSystem, got {type(blocks).__name__}")
         if not (0.0 <= damping < 1.0):
@@ -142,6 +151,7 @@ class Model:
         self.block_E = self._per_block(block_E, np.inf, "block_E", lower=0.0)
         self.block_nu = self._per_block(block_nu, 0.25, "block_nu", lower=-1.0, upper=0.5)
         self.deformable = self._deformable_sizes(deformable, rounding, edge_elements)
+        self.zone_strength = self._zone_strengths(zone_strength)
         self.zone_state = self._zone_bundle()     # components.deformable.Deformable
         self.damping = float(damping)
         if not (isinstance(kinetic_damping, (int, np.integer)) and kinetic_damping >= 0):
@@ -213,6 +223,30 @@ class Model:
             out[str(name)] = float(size)
         return out
 
+    def _zone_strengths(self, zone_strength):
+        """The ``zone_strength`` option checked (ValueError naming a bad entry or value): a
+        plain dict {group or "*": dict(cohesion=, friction=, dilation=, tensile=)}, or None."""
+        if zone_strength is None:
+            return None
+        if not isinstance(zone_strength, dict) or not zone_strength:
+            raise ValueError(f"zone_strength must be a dict {{group name or '*': dict(cohesion=Pa"
+                             f", friction=deg, ...)}} or None, got {zone_strength!r}")
+        if self.deformable is None:
+            raise ValueError("zone_strength needs deformable blocks: pass deformable= to Model")
+        out = {}
+        for name, row in zone_strength.items():
+            if name != "*" and name not in self.blocks.groups:
+                raise ValueError(f"zone_strength: no block group {name!r}; groups are "
+                                 f"{sorted(self.blocks.groups)} (or '*' for every block)")
+            if not isinstance(row, dict) or any(isinstance(v, bool) or
+                                                not isinstance(v, (int, float, np.number))
+                                                for v in row.values()):
+                raise ValueError(f"zone_strength: the entry of {name!r} must be a dict of "
+                                 f"numbers (cohesion=Pa, friction=deg, ...), got {row!r}")
+            strength_table(row, 1, f"zone_strength[{name!r}]")
+            out[str(name)] = {k: float(v) for k, v in row.items()}
+        return out
+
     def _zone_bundle(self):
         """The zones of the deformable blocks (empty bundle when none); their density is
         their block's (mass / area)."""
@@ -228,8 +262,13 @@ class Model:
             raise ValueError(f"deformable block {int(bad[0])} needs a finite block_E (Pa), got "
                              f"{self.block_E[bad[0]]!r}: pass block_E= to Model")
         rho = self.props.mass / self.blocks.area
+        strength = strength_table(None, nb)
+        for name, row in (self.zone_strength or {}).items():
+            idx = np.arange(nb) if name == "*" else self.group(name)
+            strength[idx] = strength_table(row, 1)
         return zone_kernels.deformable_bundle(self.props, size, self.block_E, self.block_nu, rho,
-                                              self.blocks.centroid, self.blocks.bounds())
+                                              strength, self.blocks.centroid,
+                                              self.blocks.bounds())
 
     @property
     def deformable_blocks(self) -> np.ndarray:
@@ -513,7 +552,7 @@ class Model:
               "zone_state")
     _SETTINGS = ("unbreakable", "damping", "safety", "mass_scaling", "fixed_dt",
                  "search_margin", "new_contact_material", "threads", "kinetic_damping",
-                 "edge_elements", "rounding", "deformable")
+                 "edge_elements", "rounding", "deformable", "zone_strength")
 
     def snapshot(self) -> dict:
         """A copy of everything that changes while the model runs; ``restore`` returns to it."""
@@ -549,6 +588,7 @@ class Model:
         m.edge_elements = False                 # (files from before the options)
         m.rounding = 0.0
         m.deformable = None
+        m.zone_strength = None
         for k, v in {**meta["settings"], **meta["clock"]}.items():
             setattr(m, k, v)
         m.materials = {k: Material(**v) for k, v in meta["materials"].items()}

@@ -43,7 +43,7 @@ _MATERIAL_KEYS = {f.name for f in dataclasses.fields(Material)}
 # Model options a scene may set (the rest of Model's arguments come from the scene itself)
 SOLVER_KEYS = {"damping", "kinetic_damping", "safety", "mass_scaling", "dt", "search_margin",
                "new_contact_material", "history_every", "threads", "unbreakable",
-               "edge_elements", "rounding", "deformable"}
+               "edge_elements", "rounding", "deformable", "zone_strength"}
 
 
 @dataclass(frozen=True)

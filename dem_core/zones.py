@@ -8,8 +8,8 @@ checks). Part 2, the coupling to the contacts by a floating frame, is
 ``components/deformable.py`` (``Model(deformable=...)``; docs/mechanics.md, "Deformable
 blocks, part 2").
 
-Zone mechanics (plane strain, small strain in each zone's co-rotated frame, linear elastic;
-stress **tension positive**, as in the continuum module, unlike the contacts' sn):
+Zone mechanics (plane strain, small strain in each zone's co-rotated frame, linear elastic or
+Mohr-Coulomb; stress **tension positive**, as in the continuum module, unlike the contacts' sn):
 
     b_i = (y0_j - y0_k) / 2A,  c_i = (x0_k - x0_j) / 2A    (i, j, k cyclic; A the area, m2)
     F = sum_i x_i (b_i, c_i),  theta = atan2(F_yx - F_xy, F_xx + F_yy)   (polar rotation)
@@ -18,12 +18,18 @@ stress **tension positive**, as in the continuum module, unlike the contacts' sn
     sxx = (lam + 2 mu) exx + lam eyy,  syy = lam exx + (lam + 2 mu) eyy,  sxy = mu gxy
     force on node i (N/m) = R (-A (b_i sxx + c_i sxy), -A (c_i syy + b_i sxy))
 
-with lam = E nu / ((1 + nu)(1 - 2 nu)), mu = E / (2 (1 + nu)) (Pa). A rigid rotation of any
-size strains nothing; for small rotations this is the linear triangle (``stiffness_matrix``).
-``Zones.stress`` is reported in the world frame (R s R^T). The mass of each zone is lumped in
-thirds on its nodes. The gridpoints move by the same leapfrog and local damping as the blocks
-(``components.nodes.damped``). The critical step is 2 / omega_max with omega_max^2 bounded by
-Gershgorin's theorem on M^-1 K (the largest row sum of |K| / m), times ``safety``. Reference:
+with lam = E nu / ((1 + nu)(1 - 2 nu)), mu = E / (2 (1 + nu)) (Pa). A zone with a strength
+(``Zones.strength``: Mohr-Coulomb c, phi, psi and a tension cut-off T; c = +inf, the default,
+is elastic and skips this) takes its plastic strain ``Zones.plastic`` off the strain above
+(exx - exx_p, eyy - eyy_p, gxy - gxy_p) and its trial stress is returned to the yield surface,
+which updates the plastic strain (``zone_plasticity``: in-plane principal stresses, szz
+elastic, perfectly plastic; docs/mechanics.md, "Mohr-Coulomb zones"). A rigid rotation of any
+size strains nothing; for small rotations this is the linear triangle (``stiffness_matrix``,
+elastic). ``Zones.stress`` is reported in the world frame (R s R^T). The mass of each zone is
+lumped in thirds on its nodes. The gridpoints move by the same leapfrog and local damping as
+the blocks (``components.nodes.damped``). The critical step is 2 / omega_max with
+omega_max^2 bounded by Gershgorin's theorem on M^-1 K (the largest row sum of |K| / m), times
+``safety`` (a yielding zone is no stiffer). Reference:
 Zienkiewicz & Taylor, The Finite Element Method, vol. 1, ch. 6 (the linear triangle);
 Crisfield, Non-linear Finite Element Analysis, vol. 1, ch. 7 (co-rotational elements); the
 UDEC manual, "deformable blocks".
@@ -37,6 +43,7 @@ import numpy as np
 from numba import njit
 
 from .components.nodes import damped
+from .zone_plasticity import strength_table, yield_zone
 
 __all__ = ["Zones", "mesh_polygon", "mesh_rectangle", "zones_from_mesh", "run_zone_steps",
            "kinetic_energy", "strain_energy", "stiffness_matrix", "critical_dt"]
@@ -59,6 +66,12 @@ class Zones(NamedTuple):
     lame : (nz, 2) float64, Pa. lam, mu.
     stress : (nz, 3) float64, Pa. sxx, syy, sxy of the last step (tension +).
     block : (nz,) int64. The block a zone belongs to.
+    strength : (nz, 4) float64. Mohr-Coulomb c (Pa; +inf: elastic), phi (deg), psi (deg),
+        T (Pa, at most c / tan phi) (``zone_plasticity``).
+    plastic : (nz, 4) float64. Plastic strain exx_p, eyy_p, gxy_p (engineering), ezz_p in the
+        zone's co-rotated frame (ezz_p stays 0: in-plane return, ``zone_plasticity``).
+    yielded : (nz,) int8. Bits ``zone_plasticity.SHEAR``, ``TENSION`` (failing in the last
+        step), ``SHEAR_PAST``, ``TENSION_PAST`` (failed before).
     """
 
     x0: np.ndarray
@@ -75,6 +88,9 @@ class Zones(NamedTuple):
     lame: np.ndarray
     stress: np.ndarray
     block: np.ndarray
+    strength: np.ndarray
+    plastic: np.ndarray
+    yielded: np.ndarray
 
 
 def mesh_rectangle(x0, y0, x1, y1, nx, ny):
@@ -138,9 +154,12 @@ def mesh_polygon(polygon, size):
     return np.asarray(pts), np.asarray(out, np.int64)
 
 
-def zones_from_mesh(points, triangles, E, nu, density, block=None) -> Zones:
+def zones_from_mesh(points, triangles, E, nu, density, block=None, strength=None) -> Zones:
     """The Zones of a mesh: triangles (m, 3) into points (n, 2), turned counter-clockwise;
-    elastic constants E (Pa), nu and density (kg/m3), each a scalar or one per zone."""
+    elastic constants E (Pa), nu and density (kg/m3), each a scalar or one per zone;
+    ``strength`` None (elastic zones), dict(cohesion=Pa, friction=deg, dilation=deg,
+    tensile=Pa) of scalars or one per zone, or a (4,) / (m, 4) table
+    (``zone_plasticity.strength_table``)."""
     pts = np.asarray(points, float)
     tri = np.array(triangles, np.int64)
     nz = len(tri)
@@ -173,16 +192,21 @@ def zones_from_mesh(points, triangles, E, nu, density, block=None) -> Zones:
         raise ValueError(f"zones: gridpoint(s) {np.flatnonzero(mass <= 0)[:5].tolist()} belong "
                          "to no zone")
     ng = len(pts)
+    table = strength_table(strength, nz, "zones: strength")
     return Zones(pts.copy(), pts.copy(), np.zeros((ng, 2)), np.zeros((ng, 2)), mass, 1.0 / mass,
                  np.zeros(ng, np.int8), np.zeros((ng, 2)), tri, np.column_stack([b, c]), area,
                  np.column_stack([lam, mu]), np.zeros((nz, 3)),
-                 np.zeros(nz, np.int64) if block is None else np.asarray(block, np.int64))
+                 np.zeros(nz, np.int64) if block is None else np.asarray(block, np.int64),
+                 table, np.zeros((nz, 4)), np.zeros(nz, np.int8))
 
 
 @njit(cache=True)
 def add_zone_forces(z):
-    """The zones' elastic forces added to ``z.f`` and their stresses (world frame) to
-    ``z.stress`` (module docstring: co-rotational constant-strain triangles)."""
+    """The zones' forces added to ``z.f`` and their stresses (world frame) to ``z.stress``
+    (module docstring: co-rotational constant-strain triangles). A zone with a finite
+    cohesion takes its plastic strain off and returns its stress to its Mohr-Coulomb surface
+    (``zone_plasticity.yield_zone``: ``z.plastic``, ``z.yielded`` updated); an elastic zone
+    (c = +inf) skips both."""
     for e in range(z.nodes.shape[0]):
         fxx = 0.0
         fxy = 0.0
@@ -209,9 +233,16 @@ def add_zone_forces(z):
             eyy += ci * uy
             gxy += ci * ux + bi * uy
         lam, mu = z.lame[e, 0], z.lame[e, 1]
+        plastic = z.strength[e, 0] < np.inf
+        if plastic:
+            exx -= z.plastic[e, 0]
+            eyy -= z.plastic[e, 1]
+            gxy -= z.plastic[e, 2]
         sxx = (lam + 2.0 * mu) * exx + lam * eyy
         syy = lam * exx + (lam + 2.0 * mu) * eyy
         sxy = mu * gxy
+        if plastic:
+            sxx, syy, sxy = yield_zone(z, e, sxx, syy, sxy, lam, mu)
         # world stress R s R^T
         z.stress[e, 0] = co * co * sxx - 2.0 * co * si * sxy + si * si * syy
         z.stress[e, 1] = si * si * sxx + 2.0 * co * si * sxy + co * co * syy
@@ -251,7 +282,8 @@ def kinetic_energy(z) -> float:
 
 
 def strain_energy(z) -> float:
-    """J/m: 1/2 sum A sigma : eps of the zones in their co-rotated frames."""
+    """J/m: 1/2 sum A sigma : eps_e of the zones in their co-rotated frames (eps_e = eps -
+    eps_p, the elastic strain)."""
     x = z.x[z.nodes]                                         # (nz, 3, 2)
     b, c = z.bc[:, :3], z.bc[:, 3:]
     F = np.stack([(b * x[:, :, 0]).sum(1), (c * x[:, :, 0]).sum(1),
@@ -261,8 +293,8 @@ def strain_energy(z) -> float:
     x0 = z.x0[z.nodes]
     ux = co * x[:, :, 0] + si * x[:, :, 1] - x0[:, :, 0]
     uy = -si * x[:, :, 0] + co * x[:, :, 1] - x0[:, :, 1]
-    exx, eyy = (b * ux).sum(1), (c * uy).sum(1)
-    gxy = (c * ux + b * uy).sum(1)
+    exx, eyy = (b * ux).sum(1) - z.plastic[:, 0], (c * uy).sum(1) - z.plastic[:, 1]
+    gxy = (c * ux + b * uy).sum(1) - z.plastic[:, 2]
     lam, mu = z.lame[:, 0], z.lame[:, 1]
     w = 0.5 * lam * (exx + eyy) ** 2 + mu * (exx ** 2 + eyy ** 2 + 0.5 * gxy ** 2)
     return float((w * z.area).sum())

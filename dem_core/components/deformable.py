@@ -27,7 +27,8 @@ over the stretch, divided by its length (sum w_i = 1).
 
 Forces (``add_deformable``, after every other force of the step). The frame gets every
 contact force whole, at its point (``forces.contact_update``, as for a rigid block). The
-zones' gridpoints get, in the block's axes, their elastic forces (``zones.add_zone_forces``)
+zones' gridpoints get, in the block's axes, their zones' forces (``zones.add_zone_forces``:
+elastic, or Mohr-Coulomb with a tension cut-off where a zone has a strength)
 and each contact's force F = L (sn n + ts t) spread over its stretch with the same weights,
 F w_i on B's gridpoints and -F w_i on A's (a uniform stress over the stretch: the consistent
 nodal forces, so the work of the contact force on the zones is F . u_bar). Of that load the
@@ -65,6 +66,7 @@ from numba import njit
 from ..contacts import ANCHOR_A, ANCHOR_B, ANCHOR_MID
 from ..kinematics import body_point, contact_normal, rotate, unrotate
 from ..zone_mesh import mesh_polygons
+from ..zone_plasticity import elastic_table
 from ..zones import add_zone_forces, stiffness_matrix, zones_from_mesh
 from .nodes import damped
 
@@ -104,6 +106,9 @@ class Deformable(NamedTuple):
     point_held : (ng,) int8. Bits FIX_X, FIX_Y: the gridpoint's held directions (block axes).
     box_sides : (ng,) int8. Bits 1, 2, 4, 8: the gridpoint lay on the left, right, bottom, top
         side of the model's bounding box at the start (``BOX_SIDES``).
+    strength, plastic, yielded : the zones' Mohr-Coulomb strength (nz, 4), plastic strain
+        (nz, 4) and failure bits (nz,) (``zones.Zones``, ``zone_plasticity``; c = +inf:
+        an elastic zone).
     """
 
     x0: np.ndarray
@@ -125,9 +130,23 @@ class Deformable(NamedTuple):
     edge_offsets: np.ndarray
     edge_points: np.ndarray
     control: np.ndarray
+    strength: np.ndarray
+    plastic: np.ndarray
+    yielded: np.ndarray
     held: np.ndarray
     point_held: np.ndarray
     box_sides: np.ndarray
+
+    @staticmethod
+    def fields_of_old_files(have) -> dict:
+        """The fields a model file from before them lacks (``have``: the fields it holds),
+        as they were then: elastic zones (``io``)."""
+        nz = len(have["area"])
+        return {"strength": elastic_table(nz), "plastic": np.zeros((nz, 4)),
+                "yielded": np.zeros(nz, np.int8),
+                "held": np.zeros(len(have["point_offsets"]) - 1, np.int8),
+                "point_held": np.zeros(len(have["x0"]), np.int8),
+                "box_sides": np.zeros(len(have["x0"]), np.int8)}
 
 
 def no_deformable() -> Deformable:
@@ -136,7 +155,8 @@ def no_deformable() -> Deformable:
     return Deformable(v2, v2.copy(), v2.copy(), v2.copy(), v1, v1.copy(), v1.copy(),
                       np.zeros((0, 3), np.int64), np.zeros((0, 6)), v1.copy(), np.zeros((0, 2)),
                       np.zeros((0, 3)), i1, i1.copy(), i1.copy(), np.zeros((0, 2)), i1.copy(),
-                      i1.copy(), np.zeros(4), np.zeros(0, np.int8), np.zeros(0, np.int8),
+                      i1.copy(), np.zeros(4), np.zeros((0, 4)), np.zeros((0, 4)),
+                      np.zeros(0, np.int8), np.zeros(0, np.int8), np.zeros(0, np.int8),
                       np.zeros(0, np.int8))
 
 
@@ -144,16 +164,20 @@ def is_empty(d: Deformable) -> bool:
     return d.point_offsets.shape[0] == 0
 
 
-def deformable_bundle(props, size, E, nu, density, origin=None, bounds=None) -> Deformable:
+def deformable_bundle(props, size, E, nu, density, strength=None, origin=None,
+                      bounds=None) -> Deformable:
     """The zones of the blocks whose ``size`` (nb,) is finite (zone size, m; NaN: rigid),
     meshed by ``zone_mesh.mesh_polygons`` (gmsh) in their body frames, with E (Pa), nu and
-    density (kg/m^3), each (nb,). ``origin`` (nb, 2), m: the blocks' centroids in the world
-    (their frames are not turned yet) and ``bounds`` (x0, y0, x1, y1), m: the model's box, to
-    mark the gridpoints on it (``box_sides``; none without them)."""
+    density (kg/m^3), each (nb,), and ``strength`` (nb, 4), a block's zones' Mohr-Coulomb row
+    [c Pa, phi deg, psi deg, T Pa] (``zone_plasticity.strength_table``; None: elastic).
+    ``origin`` (nb, 2), m: the blocks' centroids in the world (their frames are not turned
+    yet) and ``bounds`` (x0, y0, x1, y1), m: the model's box, to mark the gridpoints on it
+    (``box_sides``; none without them)."""
     off = props.vertex_offsets
     nb = len(off) - 1
     nv = int(off[-1])
     pts_all, tri_all, blk_all, E_z, nu_z, rho_z = [], [], [], [], [], []
+    table = elastic_table(nb) if strength is None else np.asarray(strength, float)
     point_offsets = np.zeros(nb + 1, np.int64)
     edge_lists = [[] for _ in range(nv)]
     soft = np.flatnonzero(np.isfinite(size))
@@ -177,7 +201,7 @@ def deformable_bundle(props, size, E, nu, density, origin=None, bounds=None) -> 
         return no_deformable()
     z = zones_from_mesh(np.vstack(pts_all), np.vstack(tri_all), np.concatenate(E_z),
                         np.concatenate(nu_z), np.concatenate(rho_z),
-                        block=np.concatenate(blk_all))
+                        block=np.concatenate(blk_all), strength=table[np.concatenate(blk_all)])
     K = abs(stiffness_matrix(z))
     rows = np.asarray(K.sum(axis=1)).ravel().reshape(-1, 2).max(axis=1)
     edge_offsets = np.zeros(nv + 1, np.int64)
@@ -186,7 +210,7 @@ def deformable_bundle(props, size, E, nu, density, origin=None, bounds=None) -> 
     return Deformable(z.x0, z.x, z.v, z.f, z.mass, z.inv_mass.copy(), rows, z.nodes, z.bc, z.area,
                       z.lame, z.stress, z.block, point_offsets, np.asarray(off, np.int64).copy(),
                       np.asarray(props.local_vertices, np.float64).copy(), edge_offsets, edge_points,
-                      np.zeros(4), np.zeros(nb, np.int8), np.zeros(ng, np.int8),
+                      np.zeros(4), z.strength, z.plastic, z.yielded, np.zeros(nb, np.int8), np.zeros(ng, np.int8),
                       _box_sides(z.x0, point_offsets, origin, bounds))
 
 
