@@ -28,6 +28,7 @@ the vertex of A at p0 against B's face, and the vertex of B at p1 against A's fa
 """
 from __future__ import annotations
 
+import dataclasses
 from typing import NamedTuple
 
 import numpy as np
@@ -37,7 +38,7 @@ from .kinematics import contact_normal
 from .rounding import is_rounded, no_rounding, rounded_contact
 
 __all__ = ["Contacts", "INTACT", "TENSION", "SHEAR", "UNBONDED", "ANCHOR_A", "ANCHOR_B",
-           "ANCHOR_MID", "initial_contacts"]
+           "ANCHOR_MID", "initial_contacts", "split_edges"]
 
 # Contacts.anchor: the point a contact keeps when it slips or opens (``forces.contact_update``).
 ANCHOR_A, ANCHOR_B, ANCHOR_MID = 0, 1, 2
@@ -232,6 +233,31 @@ def _vertex_and_edge(vertices, offsets, block_a, block_b, points, mids, normal_a
                 edge_b[i] = j
                 break
     return vertex_a, on_vertex_b, edge_b
+
+
+def split_edges(bs, max_length):
+    """``bs`` with every shared edge e longer than ``max_length[e]`` (m; inf: kept) split into
+    n = ceil(L / max_length) equal edges between the same blocks, with the same normal and
+    material: the contacts of deformable blocks, one pair per boundary segment of their zones
+    (UDEC: a contact at each boundary gridpoint). A split edge's inner points are no block's
+    vertices: their contacts are anchored midway (points, ``ANCHOR_MID``)."""
+    L = np.asarray(bs.edge_length, np.float64)
+    lim = np.asarray(max_length, np.float64)
+    n = np.ones(len(L), np.int64)
+    cut = np.isfinite(lim)
+    n[cut] = np.maximum(1, np.ceil(L[cut] / lim[cut] - 1e-9)).astype(np.int64)
+    if np.all(n == 1):
+        return bs
+    idx = np.repeat(np.arange(len(L)), n)
+    k = np.arange(n.sum()) - np.repeat(np.cumsum(n) - n, n)
+    p0, p1 = np.asarray(bs.edge_p0, np.float64), np.asarray(bs.edge_p1, np.float64)
+    d = (p1 - p0)[idx]
+    q0 = p0[idx] + (k / n[idx])[:, None] * d
+    q1 = np.where((k == n[idx] - 1)[:, None], p1[idx], p0[idx] + ((k + 1) / n[idx])[:, None] * d)
+    return dataclasses.replace(bs, edge_p0=q0, edge_p1=q1, edge_block_a=bs.edge_block_a[idx],
+                               edge_block_b=bs.edge_block_b[idx],
+                               edge_normal=bs.edge_normal[idx], edge_length=(L / n)[idx],
+                               edge_material=bs.edge_material[idx])
 
 
 def initial_contacts(bs, headroom: float = 1.5) -> Contacts:

@@ -23,7 +23,7 @@ from .blocks import BlockSystem
 from . import support
 from .components import exposed_faces, gravity_bundle, loads_bundle, servo_bundle, water_bundle
 from .components import deformable as zone_kernels
-from .contacts import initial_contacts, surface_materials
+from .contacts import initial_contacts, split_edges, surface_materials
 from .elastic import series_stiffness
 from .materials import Material, material_table
 from . import parallel
@@ -187,7 +187,7 @@ class Model:
         self.history = monitor.History(every=int(history_every))
         self.points = {}                       # name -> (block, local point (2,), start (2,))
         self.edge_elements = bool(edge_elements)
-        self.contacts = detection.sort_for_locality(initial_contacts(blocks))
+        self.contacts = detection.sort_for_locality(initial_contacts(self._contact_edges()))
         if not self.edge_elements:
             self.contacts.partner[:] = -1       # every contact its own spring
         self.props.surface_material[:] = surface_materials(self.contacts, len(blocks.vertices))
@@ -269,6 +269,18 @@ class Model:
         return zone_kernels.deformable_bundle(self.props, size, self.block_E, self.block_nu, rho,
                                               strength, self.blocks.centroid,
                                               self.blocks.bounds())
+
+    def _contact_edges(self):
+        """The shared edges the initial contacts are made of: a deformable block's split into
+        its zone size (``contacts.split_edges``), the others whole."""
+        if self.deformable is None:
+            return self.blocks
+        size = np.full(self.n_blocks, np.inf)
+        for name, h in self.deformable.items():
+            idx = np.arange(self.n_blocks) if name == "*" else self.group(name)
+            size[idx] = np.minimum(size[idx], h)
+        bs = self.blocks
+        return split_edges(bs, np.minimum(size[bs.edge_block_a], size[bs.edge_block_b]))
 
     @property
     def deformable_blocks(self) -> np.ndarray:

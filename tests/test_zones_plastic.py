@@ -2,8 +2,9 @@
 ``zones.add_zone_forces`` and so by the deformable blocks): closed-form checks.
 
 - Elastic zones (no strength, or c = +inf) are the code before plasticity to the bit (stored
-  run, ``tests/data/zones_elastic_reference.npz``: the standalone zones from 6456e68, the
-  deformable column from the gmsh mesher's commit before the merge).
+  run, ``tests/data/zones_elastic_reference.npz``: the standalone zones from 6456e68, before
+  plasticity; the deformable column, a regression guard, stored again when its mesh (gmsh)
+  and contacts (split edges) changed).
 - A returned stress is admissible and on the surface, its change is -D d eps_p, and every
   kind of return (shear, tension, corner, biaxial tension) is met.
 - A patch of zones under plane-strain uniaxial compression between smooth platens
