@@ -78,6 +78,13 @@ def contact_update(k, c, strength, s, rnd, dfm):
         _reanchor(k, c, s, xa, ya, xb, yb, reach, nx, ny)
         if dfm.point_offsets.shape[0] != 0:
             rest_points(k, c, s, dfm)       # the moved point(s) back to rest places
+            # the gap and offset the moved points have now (a rest place is found at the
+            # displacement of the stretch it came from, not exactly the one it goes to): the
+            # next increments are measured from them, else each move adds a spurious
+            # increment and slipping or open contacts pump energy into the zones
+            xa2, ya2, xb2, yb2 = deformed_points(k, c, s, dfm)
+            c.un[k] = (xb2 - xa2) * nx + (yb2 - ya2) * ny
+            c.us[k] = (yb2 - ya2) * nx - (xb2 - xa2) * ny
     # the point the force acts at
     anchor = c.anchor[k]
     px = xa if anchor == ANCHOR_A else (xb if anchor == ANCHOR_B else 0.5 * (xa + xb))

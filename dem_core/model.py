@@ -679,10 +679,21 @@ class Model:
         return w
 
     def gravity_energy(self) -> float:
-        """Potential of gravity relative to the initial positions, J/m."""
+        """Potential of gravity relative to the initial positions, J/m (the blocks' frames and
+        the deformable blocks' gridpoints in them)."""
         a = self.props.active > 0
         du = self.state.pos[a] - self.state.pos0[a]
-        return float(-(self.props.mass[a] * (du @ self.gravity)).sum())
+        e = float(-(self.props.mass[a] * (du @ self.gravity)).sum())
+        z = self.zone_state
+        if not zone_kernels.is_empty(z):     # the zones' own displacement (a held block's)
+            counts = np.diff(z.point_offsets)
+            owner = np.repeat(np.arange(self.n_blocks), counts)
+            live = a[owner]
+            c, s = self.state.rot[owner].T
+            u = z.x - z.x0
+            ux, uy = c * u[:, 0] - s * u[:, 1], s * u[:, 0] + c * u[:, 1]
+            e -= float((z.mass * (ux * self.gravity[0] + uy * self.gravity[1]))[live].sum())
+        return e
 
     def displacement(self) -> np.ndarray:
         """(nb, 2) centroid displacement from the start, m."""

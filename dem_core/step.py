@@ -86,8 +86,8 @@ def run_steps(nsteps, time, integ, s, p, c, strength, cracks, rnd, par, gravity,
         add_cables(cables, s, p)
         add_liners(liners, s, p)
         servo_velocities(servo, s, p)
-        add_deformable(dfm, c, s, p)
         kick = 0.5 * integ.dt if integ.kinetic[2] != 0.0 else integ.dt
+        add_deformable(dfm, c, s, p, kick)
         integ.kinetic[2] = 0.0
         if par.offsets.shape[0] == 0 or s.pos.shape[0] < MIN_THREADED_BLOCKS:
             status, bad = advance(s, p, integ, kick)

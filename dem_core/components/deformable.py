@@ -460,9 +460,10 @@ def rest_points(k, c, s, d):
 # removes the bundle copies the inlined helpers leave (and their reference counting), about
 # 5x faster here; it still runs on the calling thread
 @njit(cache=True, parallel=True)
-def add_deformable(d, c, s, p):
+def add_deformable(d, c, s, p, kick):
     """The zones' step (module docstring): elastic and contact forces on the gridpoints, the
-    rigid part of that load taken off, damping, leapfrog, mean motion removed."""
+    rigid part of that load taken off, damping, leapfrog (velocities kicked by ``kick`` s: dt,
+    or dt / 2 on the step after a kinetic-damping stop, as the blocks), mean motion removed."""
     if d.point_offsets.shape[0] == 0:
         return
     dt, alpha = d.control[0], d.control[1]
@@ -487,13 +488,13 @@ def add_deformable(d, c, s, p):
         if g0 < g1 and p.active[blk]:
             if d.held[blk] != 0:
                 gx, gy = unrotate(s.rot, blk, d.control[2], d.control[3])
-                _move_held(d, g0, g1, dt, alpha, gx, gy)
+                _move_held(d, g0, g1, dt, kick, alpha, gx, gy)
             else:
-                _move_block(d, g0, g1, dt, alpha)
+                _move_block(d, g0, g1, dt, kick, alpha)
 
 
 @njit(cache=True, inline="always")
-def _move_held(d, g0, g1, dt, alpha, gx, gy):
+def _move_held(d, g0, g1, dt, kick, alpha, gx, gy):
     """A held block's gridpoints (its frame does not move): the whole load, the weight
     (gx, gy in block axes) included; ``point_held`` directions stay at rest."""
     for i in range(g0, g1):
@@ -503,12 +504,12 @@ def _move_held(d, g0, g1, dt, alpha, gx, gy):
             if d.point_held[i] & (1 << q):
                 d.v[i, q] = 0.0
             else:
-                d.v[i, q] += damped(d.f[i, q], d.v[i, q], alpha) * d.inv_mass[i] * dt
+                d.v[i, q] += damped(d.f[i, q], d.v[i, q], alpha) * d.inv_mass[i] * kick
             d.x[i, q] += d.v[i, q] * dt
 
 
 @njit(cache=True, inline="always")
-def _move_block(d, g0, g1, dt, alpha):
+def _move_block(d, g0, g1, dt, kick, alpha):
     x, f, m = d.x, d.f, d.mass
     mt, cx, cy, fx, fy = 0.0, 0.0, 0.0, 0.0, 0.0
     for i in range(g0, g1):
@@ -530,7 +531,7 @@ def _move_block(d, g0, g1, dt, alpha):
         f[i, 0] -= m[i] * (ax - al * ry)
         f[i, 1] -= m[i] * (ay + al * rx)
         for q in range(2):
-            d.v[i, q] += damped(f[i, q], d.v[i, q], alpha) * d.inv_mass[i] * dt
+            d.v[i, q] += damped(f[i, q], d.v[i, q], alpha) * d.inv_mass[i] * kick
             x[i, q] += d.v[i, q] * dt
     _remove_rigid(d, g0, g1, True)
     _remove_rigid(d, g0, g1, False)
