@@ -9,6 +9,8 @@ water table, each solved), for one extent, flaw size, cut height and UCS.
     python benchmarks/checkerboard_base.py --extent section --edge 1.3 --insitu 0.37
     python benchmarks/checkerboard_base.py --extent window --edge 1.3 --demand
     python benchmarks/checkerboard_base.py --extent window --edge 1.3 --demand --joints-through
+    python benchmarks/checkerboard_base.py --extent window --edge 1.3 --demand --deformable 1.3 \
+        --deformable-within 10 [--local-damping 0.8 --steps 50000]
 
 ``--demand``: after the gravity stage, the flaws' stress against their real strength (per
 material: contacts above T in tension and above c + sn tan(phi) in shear, the largest ratios,
@@ -16,7 +18,17 @@ and where the contacts above their strength are), then the real strengths and th
 50, 200, 1,000, 3,000 and 8,000 steps; the water stage is not run. ``--joints-through``: an
 experiment, not the scene: the three joint sets cut every unit (the scene's joints stop at the
 base of the weathered zone, and a joint's end is a stress concentration), with the weathered
-joints' properties.
+joints' properties. ``--deformable H``: every block deformable, zones of size H m
+(``Model(deformable={"*": H})``, the scene's block_E 3.6 GPa and block_nu 0.27; not with
+``--edge-elements``, which the deformable blocks do not take yet). The window's far blocks
+(up to 40 m) then carry most of the gridpoints (560,000 at H = 1.3 m); ``--deformable-within
+D`` makes only the blocks whose centroid lies within D m of the flaw zone (the weathered rock
+within ``zone_length`` behind the crest, ``scene.cut_zone``) deformable, the rest rigid.
+``--local-damping A``: an experiment, not the scene: local damping A (``Model(damping=A)``)
+instead of the scene's kinetic damping (``damping=0``, ``kinetic_damping=100``, whose
+kinetic-energy test sees the blocks' motion only, not their zones'). With the scene's damping
+the deformable window fails in its gravity stage at 10 x strength; with local damping 0.8 it
+stands (docs/cases/checkerboard.md, "With deformable blocks").
 
 Prints one line per solved stage (verdict, steps, cracks so far, the monitoring points'
 displacement in m, seconds) and a JSON line at the end. The quick variant's model is
@@ -48,6 +60,12 @@ def main():
                     help="the flaws' demand against their real strength after gravity")
     ap.add_argument("--joints-through", action="store_true",
                     help="experiment: the joint sets cut the fresh rock too")
+    ap.add_argument("--deformable", type=float, default=None, metavar="H",
+                    help="every block deformable with zones of H m (Model(deformable=...))")
+    ap.add_argument("--deformable-within", type=float, default=None, metavar="D",
+                    help="with --deformable: only the blocks within D m of the flaw zone")
+    ap.add_argument("--local-damping", type=float, default=None, metavar="A",
+                    help="experiment: local damping A instead of the scene's kinetic damping")
     a = ap.parse_args()
     warnings.simplefilter("ignore")        # (the scene's own notes)
     from comparisons import checkerboard as cbk
@@ -67,14 +85,35 @@ def main():
     sc = scene.scene(p, stages)
     if a.edge_elements:
         sc = dataclasses.replace(sc, solver=dict(sc.solver, edge_elements=True))
+    if a.local_damping is not None:
+        sc = dataclasses.replace(sc, solver=dict(sc.solver, damping=a.local_damping,
+                                                 kinetic_damping=0))
+    if a.deformable is not None:
+        which = "*"
+        if a.deformable_within is not None:
+            near = scene.cut_zone(p).buffer(a.deformable_within, join_style="mitre")
+            ring = [[float(x), float(y)] for x, y in list(near.exterior.coords)[:-1]]
+            sc = dataclasses.replace(sc, groups=dict(sc.groups, deformable={"inside": ring}))
+            which = "deformable"
+        sc = dataclasses.replace(sc, solver=dict(sc.solver, deformable={which: a.deformable}))
+    t_build = time.time()
     m = build_model(sc)
+    zs = m.zone_state
     print(f"{a.extent}, {a.edge} m flaws, cut {a.cut} m, UCS {a.ucs} MPa, edge elements "
-          f"{a.edge_elements}, in-situ k {a.insitu}, joints through {a.joints_through}: "
-          f"{m.n_blocks} blocks, "
-          f"{m.contacts.n} contacts", flush=True)
+          f"{a.edge_elements}, in-situ k {a.insitu}, joints through {a.joints_through}, "
+          f"deformable {a.deformable} within {a.deformable_within}: {m.n_blocks} blocks "
+          f"({int(m.deformable_blocks.sum())} deformable), {m.contacts.n} contacts, "
+          f"{zs.x0.shape[0]} gridpoints, dt {m.dt:.3g} s, built in "
+          f"{time.time() - t_build:.0f} s", flush=True)
     t0 = time.time()
     if a.demand:
-        return demand(m, sc.stages, scene.materials(p), t0)
+        return demand(m, sc.stages, scene.materials(p), t0,
+                      dict(extent=a.extent, edge=a.edge, ucs=a.ucs, joints_through=
+                           a.joints_through, deformable=a.deformable,
+                           deformable_within=a.deformable_within,
+                           local_damping=a.local_damping, blocks=int(m.n_blocks),
+                           deformable_blocks=int(m.deformable_blocks.sum()),
+                           gridpoints=int(zs.x0.shape[0]), dt0=float(m.dt)))
     out = []
     for r in run_stages(m, sc.stages, progress=lambda *x, **k: None):
         if r.steps:
@@ -123,8 +162,8 @@ def strength_ratios(m, real):
     return out
 
 
-def demand(m, stages, real, t0):
-    """The --demand run (module docstring)."""
+def demand(m, stages, real, t0, head):
+    """The --demand run (module docstring); ``head`` goes into the JSON line."""
     import numpy as np
 
     from dem_core.stages import ChangeMaterial
@@ -135,8 +174,12 @@ def demand(m, stages, real, t0):
         i += 1
         if steps:
             break
-    moved = {k: [round(float(x), 2) for x in m.point_motion(k)[:2]] for k in m.points}
-    print(f"  gravity at high strength: {verdict}, {steps} steps, {moved}", flush=True)
+    moved0 = {k: [round(float(x), 2) for x in m.point_motion(k)[:2]] for k in m.points}
+    t_gravity = time.time() - t0
+    n0 = int(m.cracks.count[0])
+    print(f"  gravity at high strength: {verdict}, {steps} steps, {n0} cracks, {moved0}, "
+          f"{t_gravity:.0f} s "
+          f"({1e3 * t_gravity / max(steps, 1):.2f} ms a step), dt {m.dt:.3g} s", flush=True)
     rows = {}
     for name, (r, rt, rs) in strength_ratios(m, real).items():
         c = m.contacts
@@ -150,19 +193,23 @@ def demand(m, stages, real, t0):
                           where_above=[[round(float(x), 1) for x in xy[j]] +
                                        [round(float(max(rt[j], rs[j])), 2)] for j in over])
         print(f"  {name}: {json.dumps(rows[name])}", flush=True)
-    n0 = int(m.cracks.count[0])
     while isinstance(stages[i], ChangeMaterial):
         stages[i].run(m)
         i += 1
     after = []
     for k in (50, 150, 800, 2000, 5000):
+        t1 = time.time()
         m.cycle(k)
+        t1 = time.time() - t1
         modes = m.cracks.rows[n0:int(m.cracks.count[0]), 3]
         moved = {k: [round(float(x), 2) for x in m.point_motion(k)[:2]] for k in m.points}
         after.append(dict(steps=int(m.step), tension=int((modes == 1).sum()),
-                          shear=int((modes == 2).sum()), points=moved))
+                          shear=int((modes == 2).sum()), points=moved,
+                          ms_per_step=round(1e3 * t1 / k, 2)))
         print(f"  real strengths, step {m.step}: {json.dumps(after[-1])}", flush=True)
-    print(json.dumps(dict(demand=rows, after_real_strengths=after,
+    print(json.dumps(dict(head, gravity=dict(verdict=str(verdict), steps=int(steps), cracks=n0,
+                                             points=moved0, seconds=round(t_gravity)),
+                          demand=rows, after_real_strengths=after,
                           seconds=round(time.time() - t0))), flush=True)
 
 
