@@ -2,6 +2,7 @@
 them deformable (``dem_core.scene.conventional``), raised in g to failure.
 
     python benchmarks/conventional_deformable.py --case adhikary --zone 0.005
+    python benchmarks/conventional_deformable.py --case adhikary --zone 0.005 --plastic
     python benchmarks/conventional_deformable.py --case longtan --zone 0.004 --levels 100 300 20
 
 The thesis's conventional UDEC failed at 115 g (Adhikary, thesis 4.2.3) and 146 g (Longtan,
@@ -9,8 +10,10 @@ The thesis's conventional UDEC failed at 115 g (Adhikary, thesis 4.2.3) and 146 
 do not fail up to 300 / 600 g (docs/comparisons.md). Here the same scene (the cases' base run:
 Adhikary 6 mm flaws, T 1.1 MPa, g raised in 10 g levels to 300 g; Longtan in its conventional
 mode, with its persistent cross joints and smeared base cohesion) is built without its flaws,
-every joint-bounded block meshed into elastic constant-strain zones of ``--zone`` m (E, nu of
-the blocks). Each block touching the model's base is held at its base gridpoints
+every joint-bounded block meshed into constant-strain zones of ``--zone`` m (E, nu of the
+blocks; elastic, or with ``--plastic`` Mohr-Coulomb with the flaws' c, phi and T, the intact
+rock's strength the damage model uses: the thesis's conventional model had plastic zones,
+its fig. 4.7 shows their plasticity indicators). Each block touching the model's base is held at its base gridpoints
 (docs/mechanics.md, "Held deformable blocks").
 
 Prints a line per level (g, verdict, steps, A's displacement, seconds) and a JSON line at the
@@ -43,6 +46,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--case", choices=["adhikary", "longtan"], default="adhikary")
     ap.add_argument("--zone", type=float, default=0.005, help="zone size, m")
+    ap.add_argument("--plastic", action="store_true",
+                    help="Mohr-Coulomb zones with the flaws' strength (scene.conventional)")
     ap.add_argument("--levels", type=float, nargs=3, default=None, metavar=("FROM", "TO", "BY"),
                     help="g levels (default: the scene's ramp, or 20 to 600 by 20 for longtan)")
     ap.add_argument("--max-steps", type=int, default=None, help="step limit of a level")
@@ -60,9 +65,10 @@ def main():
                         failure_displacement=ramp.failure_displacement, creep=ramp.creep,
                         watch=ramp.watch, refine_to=a.refine_to)
     t0 = time.perf_counter()
-    model = build_model(conventional(sc, a.zone))
+    model = build_model(conventional(sc, a.zone, plastic=a.plastic))
     z = model.zone_state
-    print(f"{a.case} conventional, zones {a.zone} m: {model.n_blocks} blocks, "
+    print(f"{a.case} conventional, {'Mohr-Coulomb' if a.plastic else 'elastic'} zones {a.zone} m:"
+          f" {model.n_blocks} blocks, "
           f"{len(z.area)} zones, {len(z.x)} gridpoints, dt {model.dt:.3g} s, "
           f"set-up {time.perf_counter() - t0:.1f} s", flush=True)
 
@@ -73,7 +79,8 @@ def main():
 
     steps, verdict, out = ramp.run(model, on_level=on_level)
     rec = out["ramp"]
-    row = {"case": a.case, "zone_m": a.zone, "blocks": model.n_blocks, "zones": len(z.area),
+    row = {"case": a.case, "zone_m": a.zone, "plastic": a.plastic,
+           "yielded_zones": int((model.zone_state.yielded != 0).sum()), "blocks": model.n_blocks, "zones": len(z.area),
            "gridpoints": len(z.x), "dt_s": model.dt, "failure_g": rec.failure_g,
            "last_stable_g": rec.last_stable_g, "thesis_g": thesis, "verdict": verdict,
            "steps": steps, "runtime_s": round(time.perf_counter() - t0, 1),

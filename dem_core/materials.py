@@ -18,7 +18,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-__all__ = ["Material", "MaterialTable", "material_table"]
+__all__ = ["Material", "MaterialTable", "material_for", "material_table"]
 
 
 @dataclass(frozen=True)
@@ -133,7 +133,9 @@ class MaterialTable:
             self.res_cohesion, self.res_tan_friction, self.breakable.astype(np.float64)]))
 
 
-def _lookup(name: str, mapping: dict) -> Material:
+def material_for(name: str, mapping: dict) -> Material:
+    """The material of contact material ``name``: its exact key, else the longest matching
+    fnmatch pattern of ``mapping`` (ValueError naming it when none matches)."""
     if name in mapping:
         return mapping[name]
     hits = [pat for pat in mapping if fnmatch.fnmatchcase(name, pat)]
@@ -163,7 +165,7 @@ def material_table(material_names, mapping: dict, unbreakable: str | None = None
         if not isinstance(m, Material):
             raise ValueError(f"materials[{key!r}] is {type(m).__name__}, expected Material")
     names = list(material_names)
-    mats = [_lookup(n, mapping) for n in names]
+    mats = [material_for(n, mapping) for n in names]
     if unbreakable is not None:
         mats = [replace(m, breakable=False) if fnmatch.fnmatchcase(n, unbreakable) else m
                 for n, m in zip(names, mats)]

@@ -29,7 +29,7 @@ import numpy as np
 import shapely
 
 from .geometry import GeometrySpec
-from .materials import Material, material_table
+from .materials import Material, material_for, material_table
 from .stages import check_stages, stage_from_dict, stage_to_dict
 
 __all__ = ["Scene", "Boundary", "build_model", "conventional", "resolve_groups", "group_sides",
@@ -201,19 +201,28 @@ def build_model(scene: Scene, blocks=None, **options):
     return model
 
 
-def conventional(scene: Scene, zone_size: float) -> Scene:
-    """The thesis's conventional model of a scene (issue 24 item 4; thesis 4.2.3: UDEC with
+def conventional(scene: Scene, zone_size: float, plastic: bool = False) -> Scene:
+    """The thesis's conventional model of a scene (issue 24 item 4; thesis 4.2.2: UDEC with
     the joints only): the same regions, joints, materials, groups, boundaries, points and
     stages, without the Voronoi flaws (each region is the blocks its joints cut it into), every
-    block deformable with zones of ``zone_size`` m (elastic, the scene's ``block_E`` and
-    ``block_nu``; docs/mechanics.md, "The conventional model"). The solver options deformable
-    blocks do not take yet (``rounding``, ``edge_elements``) are dropped."""
+    block deformable with zones of ``zone_size`` m (the scene's ``block_E`` and ``block_nu``;
+    docs/mechanics.md, "The conventional model"). ``plastic``: each region's zones are
+    Mohr-Coulomb with its flaws' strength (the material "flaw:<region>": cohesion, friction,
+    tensile strength; no dilation), the intact rock the damage model's flaws stand for;
+    else elastic. The solver options deformable blocks do not take yet (``rounding``,
+    ``edge_elements``) are dropped."""
     if scene.block_E is None:
         raise ValueError(f"conventional: scene {scene.name!r} has rigid blocks (block_E None); "
                          "its conventional model needs their modulus")
     _positive("conventional zone size (m)", zone_size)
     solver = {k: v for k, v in scene.solver.items() if k not in ("rounding", "edge_elements")}
     solver["deformable"] = {"*": float(zone_size)}
+    if plastic:
+        solver["zone_strength"] = {}
+        for r in scene.geometry.regions:
+            f = material_for(f"flaw:{r.name}", scene.materials)
+            solver["zone_strength"][r.name] = dict(cohesion=f.cohesion, friction=f.friction,
+                                                   tensile=f.tensile_strength)
     return dataclasses.replace(scene, geometry=dataclasses.replace(scene.geometry, voronoi={}),
                                solver=solver, name=f"{scene.name} conventional")
 

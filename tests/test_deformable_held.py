@@ -145,3 +145,20 @@ def test_slipping_and_open_contacts_between_deformable_columns_keep_the_energy()
     c = m.contacts
     assert np.any(c.sn[:c.n] == 0.0) and np.any(c.sn[:c.n] > 0.0)    # open and closed ones
     assert ke > 0.01 and worst < 1e-3 * ke               # measured: 5e-6 of 0.03 J/m
+
+
+def test_conventional_scene_has_joint_blocks_deformable_and_optionally_plastic():
+    from comparisons.scenes import adhikary
+    from dem_core.scene import build_model, conventional
+    sc = adhikary.scene(adhikary.AdhikaryParams(edge_length=0.006))
+    conv = conventional(sc, 0.005, plastic=True)
+    assert sc.geometry.voronoi and not conv.geometry.voronoi      # the scene is not changed
+    assert conv.solver["zone_strength"]["rock"] == dict(cohesion=1.6e6, friction=37.0,
+                                                        tensile=1.1e6)
+    m = build_model(conv)
+    assert m.n_blocks < 60 and m.deformable_blocks.all()         # the beds, not the flaws
+    assert np.isfinite(m.zone_state.strength[:, 0]).all()
+    # every block touches the base: held at its base gridpoints, the walls' in x
+    assert m.zone_state.held.all() and (m.zone_state.point_held == 3).any()
+    with pytest.raises(ValueError, match="rigid blocks"):
+        conventional(Scene(sc.geometry, sc.materials, density=1.0), 0.005)

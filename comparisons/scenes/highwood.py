@@ -261,7 +261,7 @@ def materials(p: HighwoodParams) -> dict:
     joint = Material(kn=p.joint_kn, ks=p.joint_ks, tensile_strength=0.0, cohesion=0.0,
                      friction=p.joint_friction)
     # exact names for everything but the quartzite: a pattern such as "flaw:*" would be longer
-    # than QUARTZITE and win over it (``materials._lookup``)
+    # than QUARTZITE and win over it (``materials.material_for``)
     out = {QUARTZITE: flaw, "joint:bedding": joint, "joint:cross": joint}
     names = sorted(r.name for r in regions(p))
     for a in ("bench", "lime", "back"):     # no flaws there (no Voronoi, persistent joints)
