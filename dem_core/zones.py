@@ -242,7 +242,8 @@ def add_zone_forces(z):
         syy = lam * exx + (lam + 2.0 * mu) * eyy
         sxy = mu * gxy
         if plastic:
-            sxx, syy, sxy = yield_zone(z, e, sxx, syy, sxy, lam, mu)
+            sxx, syy, sxy = yield_zone(z.strength, z.plastic, z.yielded, e, sxx, syy, sxy, lam,
+                                       mu)
         # world stress R s R^T
         z.stress[e, 0] = co * co * sxx - 2.0 * co * si * sxy + si * si * syy
         z.stress[e, 1] = si * si * sxx + 2.0 * co * si * sxy + co * co * syy
