@@ -76,7 +76,9 @@ def contact_update(k, c, strength, s, rnd, dfm):
         if event == 1 or event == 2:
             c.broken[k] = event
         _reanchor(k, c, s, xa, ya, xb, yb, reach, nx, ny)
-        if dfm.point_offsets.shape[0] != 0:
+        if dfm.point_offsets.shape[0] != 0 and (
+                dfm.point_offsets[a + 1] > dfm.point_offsets[a] or
+                dfm.point_offsets[b + 1] > dfm.point_offsets[b]):
             rest_points(k, c, s, dfm)       # the moved point(s) back to rest places
             # the gap and offset the moved points have now (a rest place is found at the
             # displacement of the stretch it came from, not exactly the one it goes to): the
