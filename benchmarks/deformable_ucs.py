@@ -3,7 +3,7 @@
     python benchmarks/deformable_ucs.py                       # rigid, zones 3.5 mm
     python benchmarks/deformable_ucs.py --zones 0 0.0035 0.00175 --cohesion 0.05e6 1.2e6
 
-Measured numbers: ``benchmarks/results/deformable_ucs.json`` and docs/comparisons.md (lajtai,
+Measured numbers: ``benchmarks/results/deformable_ucs.jsonl`` and docs/comparisons.md (lajtai,
 "The UCS floor with deformable blocks").
 
 Each run is the quick variant's unconfined compression test (``comparisons.lajtai``: the 2:1
