@@ -26,9 +26,13 @@ so a crash in one does not stop the rest:
                      contact, reference counts in the IR; docs/performance.md)
 - gravity_box.py     contact tension of bonded Voronoi rock under its own weight, rigid and
                      deformable blocks (about 3 min; docs/cases/checkerboard.md)
+- deformable_ucs.py  the lab UCS floor with deformable blocks against rigid ones (about 2 min;
+                     docs/comparisons.md, lajtai)
 - regression_numbers.py   prints the regression-guard numbers (does not rewrite the reference)
 - full only: continuum_scaling.py (slope and footing refinement), throughput.py --scaling,
-  column_bending.py (flexural strength of a Voronoi column against beam theory by block size)
+  column_bending.py (flexural strength of a Voronoi column against beam theory by block size),
+  conventional_deformable.py (the thesis's conventional model of longtan and adhikary with
+  Mohr-Coulomb zones, raised in g to failure: about 20 and 15 min alone; docs/comparisons.md)
 """
 from __future__ import annotations
 
@@ -54,10 +58,17 @@ def main():
             ["performance.py", mode], ["numba_pipelines.py"], ["lab_resolution.py", mode],
             ["centrifuge_resolution.py", "--edges", "0.008", "0.006", "0.004"]
             + (["0.003"] if a.full else []), ["bedding_demand.py"], ["gravity_box.py"],
-            ["regression_numbers.py"]]
+            ["deformable_ucs.py", "--zones", "0", "0.0035", "--cohesion", "0.05e6", "0.5e6",
+             "1.2e6"], ["regression_numbers.py"]]
     if a.full:
         jobs += [["continuum_scaling.py"], ["throughput.py", "--scaling"],
-                 ["column_bending.py", "--edges", "0.006", "0.004", "0.003"]]
+                 ["column_bending.py", "--edges", "0.006", "0.004", "0.003"],
+                 ["conventional_deformable.py", "--case", "longtan", "--zone", "0.01",
+                  "--plastic", "--out", str(HERE / "results" /
+                                            "conventional_longtan_plastic_10mm.json")],
+                 ["conventional_deformable.py", "--case", "adhikary", "--zone", "0.005",
+                  "--plastic", "--levels", "40", "200", "20", "--out",
+                  str(HERE / "results" / "conventional_adhikary_plastic_5mm.json")]]
     summary = []
     for job in jobs:
         t0 = time.perf_counter()
