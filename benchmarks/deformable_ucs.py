@@ -18,28 +18,20 @@ cracks, steps, zones, run time (s), the machine.
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import json
 import platform
 import time
 
 from comparisons import lab
-from comparisons.lajtai import VARIANTS
 from comparisons.scenes import lajtai as scene
 from dem_core.scene import build_model
 from dem_core.stages import run_stages
+from rounding_ucs import quick_ucs_scene
 
 
 def ucs(zone, cohesion, seed=1):
     """One quick-variant UCS test with deformable blocks of zone size ``zone`` m (0: rigid)."""
-    cfg = VARIANTS["quick"]
-    edge = cfg["ucs_edge"]
-    p = scene.FlawParams(edge_length=edge, tensile=scene.THESIS_TENSILE, cohesion=cohesion,
-                         friction=scene.THESIS_FRICTION, kn=scene.THESIS_KN,
-                         ks=scene.THESIS_KS, seed=seed)
-    sc = scene.ucs_scene(p, rate=cfg["ucs_rate"], max_strain=cfg["ucs_max_strain"])
-    if zone > 0:
-        sc = dataclasses.replace(sc, solver={**sc.solver, "deformable": {"rock": zone}})
+    sc = quick_ucs_scene(cohesion, seed, **({"deformable": {"rock": zone}} if zone > 0 else {}))
     t0 = time.perf_counter()
     m = build_model(sc)
     records = run_stages(m, sc.stages)

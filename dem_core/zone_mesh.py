@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 
-__all__ = ["mesh_polygons", "face_segments"]
+__all__ = ["mesh_polygons", "face_segments", "check_polygon"]
 
 
 def face_segments(polygon, size) -> np.ndarray:
@@ -30,19 +30,25 @@ def face_segments(polygon, size) -> np.ndarray:
     return np.maximum(1, np.ceil(lengths / size - 1e-9)).astype(np.int64)
 
 
+def check_polygon(polygon, size, what) -> np.ndarray:
+    """``polygon`` as a (k, 2) float array, checked: k >= 3 finite points, counter-clockwise
+    with area > 0, and ``size`` > 0 m (ValueError starting with ``what``)."""
+    poly = np.asarray(polygon, float)
+    if poly.ndim != 2 or poly.shape[0] < 3 or poly.shape[1] != 2 or not np.isfinite(poly).all():
+        raise ValueError(f"{what} must be (k >= 3, 2) finite, got shape {poly.shape}")
+    if not (math.isfinite(size) and size > 0):
+        raise ValueError(f"{what}: zone size must be > 0 m, got {size!r}")
+    x, y = poly[:, 0], poly[:, 1]
+    if not 0.5 * (x * np.roll(y, -1) - np.roll(x, -1) * y).sum() > 0:
+        raise ValueError(f"{what} must be counter-clockwise with area > 0")
+    return poly
+
+
 def _check(polygons, sizes):
     if len(polygons) != len(sizes):
         raise ValueError(f"mesh_polygons: {len(polygons)} polygons but {len(sizes)} sizes")
-    for i, (poly, h) in enumerate(zip(polygons, sizes)):
-        poly = np.asarray(poly, float)
-        if poly.ndim != 2 or poly.shape[0] < 3 or poly.shape[1] != 2 or not np.isfinite(poly).all():
-            raise ValueError(f"mesh_polygons: polygon {i} must be (k >= 3, 2) finite, got "
-                             f"shape {poly.shape}")
-        if not (math.isfinite(h) and h > 0):
-            raise ValueError(f"mesh_polygons: zone size of polygon {i} must be > 0 m, got {h!r}")
-        x, y = poly[:, 0], poly[:, 1]
-        if not 0.5 * (x * np.roll(y, -1) - np.roll(x, -1) * y).sum() > 0:
-            raise ValueError(f"mesh_polygons: polygon {i} must be counter-clockwise with area > 0")
+    return [check_polygon(p, h, f"mesh_polygons: polygon {i}")
+            for i, (p, h) in enumerate(zip(polygons, sizes))]
 
 
 def mesh_polygons(polygons, sizes) -> list:
@@ -53,8 +59,7 @@ def mesh_polygons(polygons, sizes) -> list:
     to vertex j + 1, equally spaced, ``face_segments``), points[faces[j][0]] == polygon[j].
     """
     import gmsh
-    _check(polygons, sizes)
-    polys = [np.asarray(p, float) for p in polygons]
+    polys = _check(polygons, sizes)
     gmsh.initialize(readConfigFiles=False)
     try:
         gmsh.option.setNumber("General.Terminal", 0)

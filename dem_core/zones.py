@@ -43,6 +43,7 @@ import numpy as np
 from numba import njit
 
 from .components.nodes import damped
+from .zone_mesh import check_polygon
 from .zone_plasticity import strength_table, yield_zone
 
 __all__ = ["Zones", "mesh_polygon", "mesh_rectangle", "zones_from_mesh", "run_zone_steps",
@@ -119,18 +120,10 @@ def mesh_polygon(polygon, size):
     """(points, triangles) of a convex polygon (k, 2), counter-clockwise: a fan from its
     centroid, each triangle then split into four at its edges' midpoints until no edge is
     longer than ``size`` (m). Points shared by neighbouring triangles are merged."""
-    poly = np.asarray(polygon, float)
-    if poly.ndim != 2 or poly.shape[0] < 3 or poly.shape[1] != 2 or not np.isfinite(poly).all():
-        raise ValueError(f"mesh_polygon: polygon must be (k >= 3, 2) finite, got shape "
-                         f"{poly.shape}")
-    if not (math.isfinite(size) and size > 0):
-        raise ValueError(f"mesh_polygon: size must be > 0 m, got {size!r}")
+    poly = check_polygon(polygon, size, "mesh_polygon: polygon")
     x, y = poly[:, 0], poly[:, 1]
     cross = x * np.roll(y, -1) - np.roll(x, -1) * y
     area = 0.5 * cross.sum()
-    if not area > 0:
-        raise ValueError(f"mesh_polygon: polygon must be counter-clockwise with area > 0, got "
-                         f"area {area!r}")
     centroid = ((x + np.roll(x, -1)) * cross).sum() / (6 * area), \
         ((y + np.roll(y, -1)) * cross).sum() / (6 * area)
     tris = [np.array([poly[i], poly[(i + 1) % len(poly)], centroid]) for i in range(len(poly))]

@@ -106,7 +106,7 @@ def test_gmsh_zone_mesh_of_a_thin_column():
 
 def test_gmsh_zone_mesh_refuses_bad_input():
     sq = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
-    with pytest.raises(ValueError, match="zone size of polygon 0"):
+    with pytest.raises(ValueError, match="polygon 0: zone size"):
         mesh_polygons([sq], [0.0])
     with pytest.raises(ValueError, match="counter-clockwise"):
         mesh_polygons([sq[::-1]], [0.5])
