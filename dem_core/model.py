@@ -253,10 +253,7 @@ class Model:
         if self.deformable is None:
             return zone_kernels.no_deformable()
         nb = self.n_blocks
-        size = np.full(nb, np.nan)
-        for name, h in self.deformable.items():
-            idx = np.arange(nb) if name == "*" else self.group(name)
-            size[idx] = np.fmin(size[idx], h)
+        size = self._zone_sizes()
         bad = np.flatnonzero(np.isfinite(size) & ~np.isfinite(self.block_E))
         if bad.size:
             raise ValueError(f"deformable block {int(bad[0])} needs a finite block_E (Pa), got "
@@ -275,12 +272,17 @@ class Model:
         its zone size (``contacts.split_edges``), the others whole."""
         if self.deformable is None:
             return self.blocks
-        size = np.full(self.n_blocks, np.inf)
-        for name, h in self.deformable.items():
-            idx = np.arange(self.n_blocks) if name == "*" else self.group(name)
-            size[idx] = np.minimum(size[idx], h)
+        size = np.nan_to_num(self._zone_sizes(), nan=np.inf)
         bs = self.blocks
         return split_edges(bs, np.minimum(size[bs.edge_block_a], size[bs.edge_block_b]))
+
+    def _zone_sizes(self):
+        """(nb,) the zone size of each block (m; the smallest its groups give), NaN: rigid."""
+        size = np.full(self.n_blocks, np.nan)
+        for name, h in self.deformable.items():
+            idx = np.arange(self.n_blocks) if name == "*" else self.group(name)
+            size[idx] = np.fmin(size[idx], h)
+        return size
 
     @property
     def deformable_blocks(self) -> np.ndarray:
