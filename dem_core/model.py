@@ -23,6 +23,7 @@ from .blocks import BlockSystem
 from . import support
 from .components import exposed_faces, gravity_bundle, loads_bundle, servo_bundle, water_bundle
 from .components import deformable as zone_kernels
+from .components import deformable_bc as zone_bc
 from .contacts import initial_contacts, split_edges, surface_materials
 from .elastic import series_stiffness
 from .materials import Material, material_table
@@ -450,7 +451,7 @@ class Model:
         soft = idx[self.deformable_blocks[idx]]
         if soft.size == 0 or not (x or y):
             return
-        zone_kernels.hold_points(self.zone_state, soft, (FIX_X if x else 0) | (FIX_Y if y else 0),
+        zone_bc.hold_points(self.zone_state, soft, (FIX_X if x else 0) | (FIX_Y if y else 0),
                                  _sides(at))
         self.props.fixity[soft] = FIX_X | FIX_Y | FIX_ROT
 
@@ -640,7 +641,7 @@ class Model:
         rx, ry = r
         zvx = zvy = 0.0
         if not zone_kernels.is_empty(self.zone_state):    # a deformable block: its zones too
-            ux, uy, zvx, zvy = zone_kernels.point_motion(self.zone_state, b, r)
+            ux, uy, zvx, zvy = zone_bc.point_motion(self.zone_state, b, r)
             rx, ry = rx + ux, ry + uy
         x = self.state.pos[b] + np.array([c * rx - s * ry, s * rx + c * ry])
         w = self.state.omega[b]
@@ -656,7 +657,7 @@ class Model:
         p, c = self.props, self.contacts
         num, den = support.unbalanced(self)
         if not zone_kernels.is_empty(self.zone_state):
-            zn, zd = zone_kernels.unbalanced(self.zone_state, p.active, self.gravity)
+            zn, zd = zone_bc.unbalanced(self.zone_state, p.active, self.gravity)
             num, den = num + zn, den + zd
         return monitor.unbalanced_ratio(self.state.force, p.mass, self.gravity, self.load,
                                         p.fixity, p.active, c.n, c.block_a, c.block_b,
@@ -883,8 +884,8 @@ def _sides(at):
     if at is None:
         return None
     names = [at] if isinstance(at, str) else list(at)
-    bad = [n for n in names if n not in zone_kernels.BOX_SIDES]
+    bad = [n for n in names if n not in zone_bc.BOX_SIDES]
     if bad or not names:
-        raise ValueError(f"at must name sides of the model's box {sorted(zone_kernels.BOX_SIDES)}"
+        raise ValueError(f"at must name sides of the model's box {sorted(zone_bc.BOX_SIDES)}"
                          f", got {at!r}")
     return names
