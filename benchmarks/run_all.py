@@ -32,7 +32,8 @@ so a crash in one does not stop the rest:
 - full only: continuum_scaling.py (slope and footing refinement), throughput.py --scaling,
   column_bending.py (flexural strength of a Voronoi column against beam theory by block size),
   conventional_deformable.py (the thesis's conventional model of longtan and adhikary with
-  Mohr-Coulomb zones, raised in g to failure: about 20 and 15 min alone; docs/comparisons.md)
+  Mohr-Coulomb zones, raised in g to failure, bisected to 5 g: about 5 and 12 min;
+  docs/comparisons.md)
 """
 from __future__ import annotations
 
@@ -64,11 +65,11 @@ def main():
         jobs += [["continuum_scaling.py"], ["throughput.py", "--scaling"],
                  ["column_bending.py", "--edges", "0.006", "0.004", "0.003"],
                  ["conventional_deformable.py", "--case", "longtan", "--zone", "0.01",
-                  "--plastic", "--out", str(HERE / "results" /
-                                            "conventional_longtan_plastic_10mm.json")],
+                  "--plastic", "--levels", "100", "200", "20", "--refine-to", "5", "--out",
+                  str(HERE / "results" / "conventional_longtan_plastic_10mm_refined.json")],
                  ["conventional_deformable.py", "--case", "adhikary", "--zone", "0.005",
-                  "--plastic", "--levels", "40", "200", "20", "--out",
-                  str(HERE / "results" / "conventional_adhikary_plastic_5mm.json")]]
+                  "--plastic", "--levels", "40", "200", "20", "--refine-to", "5", "--out",
+                  str(HERE / "results" / "conventional_adhikary_plastic_5mm_refined.json")]]
     summary = []
     for job in jobs:
         t0 = time.perf_counter()
