@@ -214,15 +214,19 @@ class Model:
             raise ValueError("deformable blocks do not take edge_elements=True yet")
         out = {}
         for name, size in deformable.items():
-            if name != "*" and name not in self.blocks.groups:
-                raise ValueError(f"deformable: no block group {name!r}; groups are "
-                                 f"{sorted(self.blocks.groups)} (or '*' for every block)")
+            self._check_option_group("deformable", name)
             if isinstance(size, bool) or not isinstance(size, (int, float, np.number)) or \
                     not (math.isfinite(size) and size > 0):
                 raise ValueError(f"deformable: the zone size of {name!r} must be a finite "
                                  f"length > 0 m, got {size!r}")
             out[str(name)] = float(size)
         return out
+
+    def _check_option_group(self, option, name):
+        """ValueError naming ``name`` unless it is a block group or "*" (a per-group option)."""
+        if name != "*" and name not in self.blocks.groups:
+            raise ValueError(f"{option}: no block group {name!r}; groups are "
+                             f"{sorted(self.blocks.groups)} (or '*' for every block)")
 
     def _zone_strengths(self, zone_strength):
         """The ``zone_strength`` option checked (ValueError naming a bad entry or value): a
@@ -236,9 +240,7 @@ class Model:
             raise ValueError("zone_strength needs deformable blocks: pass deformable= to Model")
         out = {}
         for name, row in zone_strength.items():
-            if name != "*" and name not in self.blocks.groups:
-                raise ValueError(f"zone_strength: no block group {name!r}; groups are "
-                                 f"{sorted(self.blocks.groups)} (or '*' for every block)")
+            self._check_option_group("zone_strength", name)
             if not isinstance(row, dict) or any(isinstance(v, bool) or
                                                 not isinstance(v, (int, float, np.number))
                                                 for v in row.values()):
