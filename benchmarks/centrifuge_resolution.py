@@ -8,10 +8,12 @@ kinetic damping; a step limit per level that grows as the blocks get smaller), r
 range) and the thesis's 70 g.
 
     python benchmarks/centrifuge_resolution.py [--edges 0.008 0.006 0.004] [--seeds 1]
-                                               [--tensile 1.1] [--workers 2]
+                                               [--tensile 1.1] [--workers 2] [--edge-elements]
 
 Every edge is run with every tessellation seed of ``--seeds`` (the scatter of one block size)
 and every flaw tensile strength of ``--tensile`` (MPa; whether a T trend outlasts that scatter).
+``--edge-elements`` runs the blocks' shared edges as linear elements (``Model(edge_elements=True)``:
+the bending strength of a bonded edge no longer depends on the block size, issue 24 item 1).
 
 Writes benchmarks/results/centrifuge_resolution.json and .png (``--name`` renames them).
 """
@@ -32,9 +34,11 @@ FULL = VARIANTS["full"]
 MAX_STEPS = {0.008: 30_000, 0.006: FULL["max_steps"], 0.004: 60_000, 0.003: 80_000}
 
 
-def member(edge: float, seed: int = 1, tensile_mpa: float = 1.1) -> dict:
+def member(edge: float, seed: int = 1, tensile_mpa: float = 1.1,
+           edge_elements: bool = False) -> dict:
     """The sweep member of one block size (the case's base run at another edge, seed or T)."""
     return dict(label=f"edge {edge} seed {seed} T {tensile_mpa}",
+                solver=dict(edge_elements=edge_elements),
                 params=dict(edge_length=edge, seed=seed, flaw_tensile=tensile_mpa * 1e6,
                             relax_iterations=FULL["relax_iterations"]),
                 g_levels=FULL["g_levels"], max_steps=MAX_STEPS.get(edge, MAX_STEPS[0.003]),
@@ -44,6 +48,7 @@ def member(edge: float, seed: int = 1, tensile_mpa: float = 1.1) -> dict:
 def row(m: dict, r: dict) -> dict:
     return {"edge_m": m["params"]["edge_length"], "seed": m["params"]["seed"],
             "flaw_tensile_mpa": m["params"]["flaw_tensile"] / 1e6,
+            "edge_elements": m["solver"]["edge_elements"],
             "blocks": r["blocks"],
             "contacts": r["contacts"], "g_step": m["g_levels"][1] - m["g_levels"][0],
             "g_resolution": m["refine_to"], "max_steps_per_level": m["max_steps"],
@@ -61,10 +66,12 @@ def main(argv=None):
     ap.add_argument("--seeds", type=int, nargs="+", default=[1])
     ap.add_argument("--tensile", type=float, nargs="+", default=[1.1], help="flaw T (MPa)")
     ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--edge-elements", action="store_true",
+                    help="shared edges as linear elements (Model(edge_elements=True))")
     ap.add_argument("--name", default="centrifuge_resolution",
                     help="file name of the results (without .json / .png)")
     a = ap.parse_args(argv)
-    members = [member(edge, seed, t) for edge in a.edges for seed in a.seeds
+    members = [member(edge, seed, t, a.edge_elements) for edge in a.edges for seed in a.seeds
                for t in a.tensile]
     rows = [row(m, r) for m, r in zip(members, run_sweep(run_member, members, a.workers))]
     for r in rows:

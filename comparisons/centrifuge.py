@@ -86,7 +86,8 @@ def ramp_run(scene, params, member: dict, failure_displacement: float, creep: fl
     ``member`` holds ``label``, ``params`` (the plain dict of ``params``), ``g_levels``,
     ``max_steps`` and optionally ``settle`` (stop a level early once settled,
     ``limit.search_failure``), ``threads``, ``damping`` and ``kinetic_damping`` (the solver,
-    default ``DAMPING`` and ``KINETIC_DAMPING``), ``refine_to`` (g: bisect the failure bracket
+    default ``DAMPING`` and ``KINETIC_DAMPING``), ``solver`` (further ``Model`` options over
+    the scene's, e.g. ``{"edge_elements": True}``), ``refine_to`` (g: bisect the failure bracket
     to this width, ``raise_gravity``), ``vtk`` (a .vtu path: the model's state at the end of
     the ramp is written there, ``Model.write_vtk``, and each level's state to a series
     ``<path without .vtu>/<name>.pvd``, time = g) and ``checkpoint`` (a file stem: the model
@@ -114,7 +115,8 @@ def ramp_run(scene, params, member: dict, failure_displacement: float, creep: fl
     if saved is None:
         threads = min(member.get("threads", 1), numba.config.NUMBA_NUM_THREADS)
         model = build_model(sc, threads=threads, damping=member.get("damping", DAMPING),
-                            kinetic_damping=member.get("kinetic_damping", KINETIC_DAMPING))
+                            kinetic_damping=member.get("kinetic_damping", KINETIC_DAMPING),
+                            **member.get("solver", {}))
         check_stages(sc.stages, set(model.blocks.groups), model.materials)
     model, resume = saved if saved is not None else (model, None)
     earlier = 0.0 if resume is None else resume.seconds

@@ -26,6 +26,7 @@ parameters (thesis 2.3, 3.4 eq. 3.6, 3.5). See its docstring.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from types import SimpleNamespace
@@ -54,7 +55,8 @@ VARIANTS = {
         normal_stresses=[0.3e6, 1.2e6, 2.4e6], lajtai_normal_stresses=[0.3e6, 1.2e6, 2.4e6],
         persistence=[0.0, 0.5, 1.0], tensile=[0.5e6, 1.0e6], scale_edges=[],
         cohesion_sweep=[], accuracy_edges=[], accuracy_safety=[], continuum=True,
-        continuum_h=0.01, continuum_normal_stresses=[0.3e6, 1.2e6, 2.4e6], workers=1),
+        continuum_h=0.01, continuum_normal_stresses=[0.3e6, 1.2e6, 2.4e6], workers=1,
+        zone_size=None),
     "full": dict(
         ucs_edge=0.007, shear_edge=0.007, ucs_rate=1.5e-7, shear_rate=2e-7,
         ucs_max_strain=0.03, shear_max_disp=0.004,
@@ -65,8 +67,13 @@ VARIANTS = {
         cohesion_sweep=[0.3e6, 0.6e6, 0.9e6, 1.5e6, 2.0e6, 2.4e6],
         accuracy_edges=[0.005, 0.006, 0.007, 0.009, 0.011, 0.014], accuracy_safety=[0.3, 0.9],
         continuum=True, continuum_h=0.008, continuum_normal_stresses=[0.3e6, 0.9e6, 1.5e6, 2.4e6],
-        workers=2),
+        workers=2, zone_size=None),
 }
+# zone_size: None, rigid Voronoi blocks with their compliance in series with the contacts (the
+# default); a size (m), the specimen's blocks deformable (UDEC's, as the thesis's), meshed into
+# zones of that size (Model's ``deformable``). With 3.5 mm zones the calibration reaches the
+# thesis's 4.1 MPa at c = 0.75 MPa, which rigid blocks cannot (their floor is 4.4 MPa), at about
+# 20 times a rigid test's run time (benchmarks/deformable_ucs.py, docs/comparisons.md).
 
 # thesis 3.6-3.8: flaws and joints at friction 30 for the persistence, T and scale studies
 STUDY_FRICTION = 30.0
@@ -134,8 +141,9 @@ def ucs_member(q: dict) -> dict:
     height = 2.0 * width
     t0 = time.perf_counter()
     glued = q.get("test") == "tension"
-    sc = scene.ucs_scene(p, width, height, glued_platens=glued, safety=q.get("safety", 0.5),
-                         rate=q["rate"], max_strain=q["max_strain"])
+    sc = _deformable(scene.ucs_scene(p, width, height, glued_platens=glued,
+                                     safety=q.get("safety", 0.5), rate=q["rate"],
+                                     max_strain=q["max_strain"]), q)
     m = build_model(sc)
     records = run_stages(m, sc.stages, progress=stage_reporter(m, len(sc.stages)))
     cv = lab.curve_of(records[-1], m, t0, 1.0 / height, "gauge", 0.0 if glued else 1.0 / width)
@@ -165,8 +173,8 @@ def shear_member(q: dict) -> dict:
                          friction=q["friction"], kn=q["kn"], ks=q["ks"], seed=q["seed"])
     s = scene.ShearParams(joints=q["joints"], k=q["k"], joint_friction=q["joint_friction"])
     t0 = time.perf_counter()
-    sc = scene.shear_scene(p, s, safety=q.get("safety", 0.5), normal_stress=q["sn"],
-                           rate=q["rate"], max_displacement=q["max_disp"])
+    sc = _deformable(scene.shear_scene(p, s, safety=q.get("safety", 0.5), normal_stress=q["sn"],
+                                       rate=q["rate"], max_displacement=q["max_disp"]), q)
     m = build_model(sc)
     records = run_stages(m, sc.stages, progress=stage_reporter(m, len(sc.stages)))
     cv = lab.curve_of(records[-1], m, t0, 1.0, "across")
@@ -182,6 +190,14 @@ def shear_member(q: dict) -> dict:
     return out
 
 
+def _deformable(sc, q: dict):
+    """The scene with its specimen's blocks deformable when ``q["zone_size"]`` (m) is set."""
+    zone = q.get("zone_size")
+    if zone is None:
+        return sc
+    return dataclasses.replace(sc, solver={**sc.solver, "deformable": {"rock": zone}})
+
+
 def _vtk(q: dict, name: str) -> dict:
     """``q`` with ``vtk``: ``<vtk folder>/<name>.vtu`` when the run writes VTK files
     (``store.vtk_folder``), else ``q`` as it is."""
@@ -189,10 +205,18 @@ def _vtk(q: dict, name: str) -> dict:
     return q if folder is None else {**q, "vtk": str(folder / f"{name}.vtu")}
 
 
+def ucs_query(cfg: dict, cohesion: float, **over) -> dict:
+    """The ``ucs_member`` input of the variant settings ``cfg`` (a ``VARIANTS`` entry with a
+    ``seed``) at flaw cohesion ``cohesion`` (Pa), with ``over`` replacing any of its items."""
+    return {**_flaw_params(cfg, cohesion=cohesion), "test": "ucs", "rate": cfg["ucs_rate"],
+            "max_strain": cfg["ucs_max_strain"], **over}
+
+
 def _flaw_params(cfg, **over):
     base = dict(edge=cfg["ucs_edge"], tensile=scene.THESIS_TENSILE,
                 cohesion=scene.THESIS_COHESION, friction=scene.THESIS_FRICTION,
-                kn=scene.THESIS_KN, ks=scene.THESIS_KS, seed=cfg["seed"])
+                kn=scene.THESIS_KN, ks=scene.THESIS_KS, seed=cfg["seed"],
+                zone_size=cfg["zone_size"])
     base.update(over)
     return base
 
@@ -212,8 +236,7 @@ def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
 
     def ucs_q(c, **over):
         name = f"ucs_c{c / MPA:.6g}" + "".join(f"_{k}{v:g}" for k, v in over.items())
-        return _vtk({**_flaw_params(cfg, cohesion=c), "test": "ucs", "rate": cfg["ucs_rate"],
-                     "max_strain": cfg["ucs_max_strain"], **over}, name)
+        return _vtk(ucs_query(cfg, c, **over), name)
 
     def one(q):                    # one run, through run_sweep: kept, and loaded on resume
         return run_sweep(ucs_member, [q])[0]
@@ -475,7 +498,10 @@ def _notes(cfg):
         "near c = 0.05 MPa only ('calibrated_cohesion_mpa'): at c = 1.2 MPa our rigid Voronoi "
         "specimen gives ~6.2 MPa ('ucs_at_thesis_cohesion_mpa'), and at c ~ 0.05 MPa its direct "
         "tension strength falls to ~0.04 MPa, so UCS and tensile targets cannot both be met "
-        "with rigid blocks at this size (UDEC's blocks were deformable).",
+        "with rigid blocks at this size (UDEC's blocks were deformable; the variant setting "
+        "'zone_size' makes them deformable here too).",
+        ("Blocks: rigid, their E and nu in series with the contacts." if cfg["zone_size"] is None
+         else f"Blocks: deformable, zones of {cfg['zone_size'] * 1e3:g} mm."),
         "Direct-shear stress is read on the stationary upper box (the moving box also carries "
         "the start-up inertia of the lower half).",
         "Loading rates are platen / box displacements per time step (mass scaling sets the "
