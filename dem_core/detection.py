@@ -32,7 +32,8 @@ from numba import njit
 
 from .contacts import ANCHOR_A, INTACT, UNBONDED, Contacts
 from .kinematics import body_point, contact_normal, unrotate
-from .components.deformable import deformed_points, no_deformable
+from .components.boundary_points import deformed_points
+from .components.deformable import no_deformable
 from .rounding import is_rounded, no_rounding, rounded_contact
 
 __all__ = ["update_contacts", "compact", "block_containing", "world_vertices", "grid_pairs",

@@ -27,7 +27,7 @@ import warnings
 from numba import njit
 from numba.core.errors import NumbaPerformanceWarning
 
-from .components.deformable import deformed_points, rest_points
+from .components.boundary_points import deformed_points, rest_points
 from .contacts import ANCHOR_A, ANCHOR_B
 from .kinematics import body_point, contact_normal, unrotate
 from .law import coulomb_law

@@ -207,7 +207,7 @@ def test_bad_input_is_refused_naming_it(kw, word):
 def test_deformable_voronoi_specimen_threaded_is_bit_for_bit_serial(monkeypatch):
     """Every block of a Voronoi specimen deformable: the threaded contact kernel gives the
     serial numbers, and every contact of the tessellation acts on both blocks' zones."""
-    from dem_core.components.deformable import _sides
+    from dem_core.components.boundary_points import contact_sides as _sides
     from dem_core.contacts import ANCHOR_MID
     from dem_core.geometry import GeometrySpec, Voronoi, build_block_system, rectangle
 
