@@ -92,7 +92,8 @@ def main(argv=None):
                     (r["seconds"], 100 * (e or 0)))
     ax.set_xlabel("run time (s)")
     ax.set_ylabel("failure g error vs experiment (%)")
-    ax.set_title("Adhikary centrifuge, damage model")
+    ax.set_title("Adhikary centrifuge, damage model"
+                 + (", edge elements" if a.edge_elements else ", end springs"))
     fig.tight_layout()
     fig.savefig(out / f"{a.name}.png", dpi=110)
 
