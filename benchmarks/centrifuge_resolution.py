@@ -56,6 +56,11 @@ def row(m: dict, r: dict) -> dict:
             "levels": len(r["g"]), "steps": r["steps"], "seconds": r["runtime_s"],
             # the levels in the order run (bisection and the 1 g closing steps come last)
             "g_run": r["g"], "verdicts": r["verdict"],
+            # the rupture surface of the failed state (comparisons.adhikary: experiment 12-20
+            # degrees above the joint normal)
+            "rupture": None if r.get("rupture") is None else {
+                k: r["rupture"][k] for k in ("angle_above_joint_normal_deg", "depth_m",
+                                             "n_cracks")},
             "error_vs_experiment": metric_error(r["failure_g"], [80.0, 85.0]),
             "error_vs_thesis": metric_error(r["failure_g"], 70.0)}
 
