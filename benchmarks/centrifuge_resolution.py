@@ -1,19 +1,23 @@
-"""Error against run time of the Adhikary centrifuge case: failure g by block size.
+"""Error against run time of the centrifuge cases (Adhikary, Longtan): failure g by block size.
 
-One damage-model g-ramp (flaw T = 1.1 MPa) per block edge length with the full variant's solver
-(10 g levels, the failed level bisected and the ramp closed in 1 g steps, the thesis's loading;
-kinetic damping; a step limit per level that grows as the blocks get smaller), run through
-``comparisons.adhikary.run_member`` (the case's own code), the block sizes spread over
-``--workers`` processes. The error is taken against the experiment's 80-85 g (zero inside the
-range) and the thesis's 70 g.
+One damage-model g-ramp (the base flaw T: adhikary 1.1 MPa, longtan 4.81 MPa) per block edge
+length with the case's full variant's solver (adhikary: 10 g levels, the failed level bisected
+and the ramp closed in 1 g steps, the thesis's loading; longtan: 20 g levels bisected to 2 g;
+kinetic damping; a step limit per level that grows as the blocks get smaller), run through the
+case's own ``run_member``, the block sizes spread over ``--workers`` processes. The error is
+taken against the experiment (adhikary 80-85 g, zero inside the range; longtan 130 g) and the
+thesis's damage model (70 g; 134 g).
 
-    python benchmarks/centrifuge_resolution.py [--edges 0.008 0.006 0.004] [--seeds 1]
-                                               [--tensile 1.1] [--workers 2] [--edge-elements]
+    python benchmarks/centrifuge_resolution.py [--case adhikary] [--edges 0.008 0.006 0.004]
+                                               [--seeds 1] [--tensile 1.1] [--workers 2]
+                                               [--edge-elements]
 
 Every edge is run with every tessellation seed of ``--seeds`` (the scatter of one block size)
 and every flaw tensile strength of ``--tensile`` (MPa; whether a T trend outlasts that scatter).
 ``--edge-elements`` runs the blocks' shared edges as linear elements (``Model(edge_elements=True)``:
-the bending strength of a bonded edge no longer depends on the block size, issue 24 item 1).
+the bending strength of a bonded edge no longer depends on the block size, issue 24 item 1);
+``--deformable H`` makes every block deformable with zones of H m (UDEC-DM's blocks, issue 24
+item 2; the contacts then act on the zones' boundary segments).
 
 Writes benchmarks/results/centrifuge_resolution.json and .png (``--name`` renames them).
 """
@@ -24,31 +28,53 @@ import json
 import platform
 from pathlib import Path
 
-from comparisons.adhikary import VARIANTS, run_member
+from comparisons import adhikary, longtan
 from comparisons.results import metric_error
 from comparisons.sweep import run_sweep
 
-FULL = VARIANTS["full"]
-# edge (m) -> steps per level: finer blocks settle more slowly (more blocks along a column:
-# more steps per period of its lowest mode); 6 mm is the case's own setting
-MAX_STEPS = {0.008: 30_000, 0.006: FULL["max_steps"], 0.004: 60_000, 0.003: 80_000}
+# per case: its module, the full variant's settings, steps per level by block edge (m; finer
+# blocks settle more slowly: more blocks along a column, more steps per period of its lowest
+# mode; the case's own edge keeps its own setting), the base T (MPa) and the references
+CASES = {
+    "adhikary": dict(module=adhikary, max_steps={0.008: 30_000, 0.006: 40_000, 0.004: 60_000,
+                                                 0.003: 80_000},
+                     tensile=1.1, experiment=adhikary.REFERENCE["experiment_failure_g"],
+                     thesis=adhikary.REFERENCE["thesis_dem_failure_g_T1.1"]),
+    "longtan": dict(module=longtan, max_steps={0.008: 30_000, 0.005: 60_000, 0.004: 70_000,
+                                               0.003: 90_000},
+                    tensile=4.81, experiment=longtan.REFERENCE["experiment_failure_g"],
+                    thesis=longtan.REFERENCE["thesis_dem_failure_g"]),
+}
 
 
-def member(edge: float, seed: int = 1, tensile_mpa: float = 1.1,
-           edge_elements: bool = False) -> dict:
+def member(edge: float, seed: int = 1, tensile_mpa: float | None = None,
+           edge_elements: bool = False, case: str = "adhikary", zone: float = 0.0) -> dict:
     """The sweep member of one block size (the case's base run at another edge, seed or T)."""
-    return dict(label=f"edge {edge} seed {seed} T {tensile_mpa}",
-                solver=dict(edge_elements=edge_elements),
-                params=dict(edge_length=edge, seed=seed, flaw_tensile=tensile_mpa * 1e6,
-                            relax_iterations=FULL["relax_iterations"]),
-                g_levels=FULL["g_levels"], max_steps=MAX_STEPS.get(edge, MAX_STEPS[0.003]),
-                refine_to=FULL["refine_to"])
+    spec = CASES[case]
+    full = spec["module"].VARIANTS["full"]
+    t = spec["tensile"] if tensile_mpa is None else tensile_mpa
+    steps = spec["max_steps"]
+    return dict(label=f"{case} edge {edge} seed {seed} T {t}", case=case,
+                solver=dict(edge_elements=edge_elements,
+                            **({"deformable": {"*": zone}} if zone > 0 else {})),
+                params=dict(edge_length=edge, seed=seed, flaw_tensile=t * 1e6,
+                            relax_iterations=full["relax_iterations"]),
+                g_levels=full["g_levels"],
+                max_steps=steps.get(edge, steps[min(steps)]),   # (else the finest's)
+                refine_to=full["refine_to"])
+
+
+def run_member(m: dict) -> dict:
+    """The case's own ``run_member`` (a sweep member: plain dict in and out)."""
+    return CASES[m["case"]]["module"].run_member(m)
 
 
 def row(m: dict, r: dict) -> dict:
-    return {"edge_m": m["params"]["edge_length"], "seed": m["params"]["seed"],
+    return {"case": m["case"], "edge_m": m["params"]["edge_length"],
+            "seed": m["params"]["seed"],
             "flaw_tensile_mpa": m["params"]["flaw_tensile"] / 1e6,
             "edge_elements": m["solver"]["edge_elements"],
+            "zone_m": m["solver"].get("deformable", {}).get("*", 0.0),
             "blocks": r["blocks"],
             "contacts": r["contacts"], "g_step": m["g_levels"][1] - m["g_levels"][0],
             "g_resolution": m["refine_to"], "max_steps_per_level": m["max_steps"],
@@ -56,27 +82,31 @@ def row(m: dict, r: dict) -> dict:
             "levels": len(r["g"]), "steps": r["steps"], "seconds": r["runtime_s"],
             # the levels in the order run (bisection and the 1 g closing steps come last)
             "g_run": r["g"], "verdicts": r["verdict"],
-            # the rupture surface of the failed state (comparisons.adhikary: experiment 12-20
-            # degrees above the joint normal)
+            # the rupture surface of the failed state (adhikary's experiment: 12-20 degrees
+            # above the joint normal)
             "rupture": None if r.get("rupture") is None else {
                 k: r["rupture"][k] for k in ("angle_above_joint_normal_deg", "depth_m",
                                              "n_cracks")},
-            "error_vs_experiment": metric_error(r["failure_g"], [80.0, 85.0]),
-            "error_vs_thesis": metric_error(r["failure_g"], 70.0)}
+            "error_vs_experiment": metric_error(r["failure_g"], CASES[m["case"]]["experiment"]),
+            "error_vs_thesis": metric_error(r["failure_g"], CASES[m["case"]]["thesis"])}
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--edges", type=float, nargs="+", default=[0.008, 0.006, 0.004])
     ap.add_argument("--seeds", type=int, nargs="+", default=[1])
-    ap.add_argument("--tensile", type=float, nargs="+", default=[1.1], help="flaw T (MPa)")
+    ap.add_argument("--case", choices=sorted(CASES), default="adhikary")
+    ap.add_argument("--tensile", type=float, nargs="+", default=[None],
+                    help="flaw T (MPa; default the case's base: adhikary 1.1, longtan 4.81)")
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--edge-elements", action="store_true",
                     help="shared edges as linear elements (Model(edge_elements=True))")
+    ap.add_argument("--deformable", type=float, default=0.0, metavar="H",
+                    help="every block deformable, zones of H m (Model(deformable={'*': H}))")
     ap.add_argument("--name", default="centrifuge_resolution",
                     help="file name of the results (without .json / .png)")
     a = ap.parse_args(argv)
-    members = [member(edge, seed, t, a.edge_elements) for edge in a.edges for seed in a.seeds
+    members = [member(edge, seed, t, a.edge_elements, a.case, a.deformable) for edge in a.edges for seed in a.seeds
                for t in a.tensile]
     rows = [row(m, r) for m, r in zip(members, run_sweep(run_member, members, a.workers))]
     for r in rows:
@@ -97,8 +127,9 @@ def main(argv=None):
                     (r["seconds"], 100 * (e or 0)))
     ax.set_xlabel("run time (s)")
     ax.set_ylabel("failure g error vs experiment (%)")
-    ax.set_title("Adhikary centrifuge, damage model"
-                 + (", edge elements" if a.edge_elements else ", end springs"))
+    ax.set_title(f"{a.case.capitalize()} centrifuge, damage model"
+                 + (f", deformable blocks, {1e3 * a.deformable:g} mm zones" if a.deformable
+                    else ", edge elements" if a.edge_elements else ", end springs"))
     fig.tight_layout()
     fig.savefig(out / f"{a.name}.png", dpi=110)
 
