@@ -89,8 +89,10 @@ class Model:
     edge_elements : bool
         The two contacts of each shared edge act as one linear interface element
         (``forces.edge_correction``): the exact elastic bending stiffness and strength of a
-        bonded edge. Off (each contact its own spring at an edge end, three times too stiff and
-        strong in bending) until the comparison cases are re-run with it (docs/mechanics.md).
+        bonded edge. Off by default (each contact its own spring at an edge end, three times
+        too stiff and strong in bending: the cases' stored numbers are made so). With it the
+        Adhikary centrifuge failure g converges with block size (38-40 g from 6 to 3 mm blocks;
+        end springs 76 -> 54 g from 6 to 4 mm: docs/verification.md, docs/mechanics.md).
     rounding : float
         Corner rounding radius d, m (0: sharp corners, the default). With d > 0 every block
         corner is a circular arc of radius d tangent to its two edges (centred on the corner's
