@@ -19,7 +19,8 @@ the bending strength of a bonded edge no longer depends on the block size, issue
 ``--deformable H`` makes every block deformable with zones of H m (UDEC-DM's blocks, issue 24
 item 2; the contacts then act on the zones' boundary segments).
 
-Writes benchmarks/results/centrifuge_resolution.json and .png (``--name`` renames them).
+Writes benchmarks/results/centrifuge_resolution.json and .png (``--name`` renames them);
+``--summary NAME ...`` draws the rows of earlier result files in one figure (``--name``.png).
 """
 from __future__ import annotations
 
@@ -27,6 +28,8 @@ import argparse
 import json
 import platform
 from pathlib import Path
+
+import numpy as np
 
 from comparisons import adhikary, longtan
 from comparisons.results import metric_error
@@ -105,33 +108,84 @@ def main(argv=None):
                     help="every block deformable, zones of H m (Model(deformable={'*': H}))")
     ap.add_argument("--name", default="centrifuge_resolution",
                     help="file name of the results (without .json / .png)")
+    ap.add_argument("--summary", nargs="+", metavar="NAME",
+                    help="run nothing: draw the rows of these result files (names as --name) "
+                         "in one figure, <--name>.png")
     a = ap.parse_args(argv)
-    members = [member(edge, seed, t, a.edge_elements, a.case, a.deformable) for edge in a.edges for seed in a.seeds
-               for t in a.tensile]
+    out = Path(__file__).parent / "results"
+    if a.summary:
+        rows = [r for n in a.summary for r in json.loads((out / f"{n}.json").read_text())["rows"]]
+        summary_figure(rows, out / f"{a.name}.png")
+        return
+    members = [member(edge, seed, t, a.edge_elements, a.case, a.deformable)
+               for edge in a.edges for seed in a.seeds for t in a.tensile]
     rows = [row(m, r) for m, r in zip(members, run_sweep(run_member, members, a.workers))]
     for r in rows:
         print(json.dumps(r), flush=True)
-    out = Path(__file__).parent / "results"
     out.mkdir(exist_ok=True)
     (out / f"{a.name}.json").write_text(json.dumps(
         {"machine": f"{platform.machine()} {platform.platform()}", "workers": a.workers,
          "rows": rows}, indent=2))
+    summary_figure(rows, out / f"{a.name}.png")
+
+
+def _model_label(r: dict) -> str:
+    if r.get("zone_m"):
+        return f"deformable blocks, {1e3 * r['zone_m']:g} mm zones"
+    return "edge elements" if r.get("edge_elements") else "end springs (default)"
+
+
+def summary_figure(rows: list, path: Path) -> None:
+    """Left: failure g (bar from the last stable level) against block edge, one series per
+    contact model, each point labelled with its run time, the references as lines. Right: each
+    run's failure g against its run time. Rows of one case and one T (the base run's)."""
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(5, 4))
-    for r in rows:
-        e = r["error_vs_experiment"]["rel_error"]
-        ax.plot(r["seconds"], 100 * (e if e is not None else float("nan")), "o")
-        ax.annotate(f"{1e3 * r['edge_m']:.0f} mm, seed {r['seed']}, "
-                    f"T {r['flaw_tensile_mpa']:g}",
-                    (r["seconds"], 100 * (e or 0)))
-    ax.set_xlabel("run time (s)")
-    ax.set_ylabel("failure g error vs experiment (%)")
-    ax.set_title(f"{a.case.capitalize()} centrifuge, damage model"
-                 + (f", deformable blocks, {1e3 * a.deformable:g} mm zones" if a.deformable
-                    else ", edge elements" if a.edge_elements else ", end springs"))
+    case = rows[0].get("case", "adhikary")
+    spec = CASES[case]
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(10, 4.2))
+    models = sorted({_model_label(r) for r in rows})
+    for i, label in enumerate(models):
+        sel = sorted((r for r in rows if _model_label(r) == label and r["failure_g"]),
+                     key=lambda r: r["edge_m"])
+        mm = np.array([1e3 * r["edge_m"] for r in sel])
+        hi = np.array([r["failure_g"] for r in sel], float)
+        lo = np.array([r["last_stable_g"] or 0.0 for r in sel], float)
+        t = np.array([r["seconds"] for r in sel])
+        colour = f"C{i}"
+        ax.errorbar(mm, hi, yerr=[hi - lo, 0 * hi], fmt="o-", color=colour, capsize=3,
+                    label=label)
+        for x, y, s in zip(mm, hi, t):
+            ax.annotate(f"{s:.0f} s", (x, y), textcoords="offset points", xytext=(4, 4),
+                        fontsize=7, color=colour)
+        bx.plot(t, hi, "o", color=colour, label=label)
+        for x, y, e in zip(t, hi, mm):
+            bx.annotate(f"{e:g} mm", (x, y), textcoords="offset points", xytext=(4, 4),
+                        fontsize=7, color=colour)
+    exp = np.atleast_1d(spec["experiment"])
+    for axis in (ax, bx):
+        axis.axhspan(exp.min() - 0.5, exp.max() + 0.5, color="0.85", label="experiment")
+        axis.axhline(spec["thesis"], color="k", ls="--", label="thesis UDEC-DM")
+        axis.set_ylabel("failure g (bar: from the last stable level)")
+        axis.set_ylim(0, None)
+    ax.set_xlabel("block edge (mm)")
+    ax.invert_xaxis()
+    bx.set_xscale("log")
+    from matplotlib.ticker import NullFormatter, ScalarFormatter
+    bx.xaxis.set_major_formatter(ScalarFormatter())
+    bx.xaxis.set_minor_formatter(NullFormatter())
+    bx.set_xticks([t for t in (30, 100, 300, 1000, 3000, 10000)
+                   if 0.5 * min(r["seconds"] for r in rows) <= t <= 2 * max(r["seconds"]
+                                                                          for r in rows)])
+    bx.set_xlabel("run time (s, one core)")
+    ax.legend(fontsize=8, loc="lower left")
+    T = rows[0]["flaw_tensile_mpa"]
+    ax.set_title(f"{case.capitalize()} centrifuge, damage model, T = {T:g} MPa: block size",
+                 fontsize=10)
+    bx.set_title("failure g against run time", fontsize=10)
     fig.tight_layout()
-    fig.savefig(out / f"{a.name}.png", dpi=110)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
 
 
 if __name__ == "__main__":
