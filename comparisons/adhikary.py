@@ -54,6 +54,9 @@ REFERENCE = {
 # (dem_core.parallel). At these sizes two processes of one thread each beat one process of two
 # threads (the per-step thread start-up is not paid back); the results are the same.
 # refine_to: after the first failed level, bisect back to this many g (gravity_ramp).
+# solver: Model options over the scene's for every run, e.g. {"edge_elements": True} (the shared
+# edges as linear elements: the failure g then converges with block size, about 39 g,
+# docs/verification.md; the stored numbers are without it).
 # Each level runs at most max_steps with kinetic damping (comparisons/centrifuge.py): a stable
 # level settles within ~20,000 steps at 8 mm (~30,000 at 6 mm), a failing one runs away.
 VARIANTS = {
@@ -71,7 +74,7 @@ VARIANTS = {
     "quick": dict(edge_length=0.006, relax_iterations=10, g_levels=list(range(40, 121, 20)),
                   refine_to=None, max_steps=13_000, tensile=[1.1e6, 1.4e6, 0.8e6],
                   frictions=[25.0], bedding_cohesion=[5e3], conventional=True, continuum=True,
-                  continuum_h=0.012, workers=2, threads=1),
+                  continuum_h=0.012, workers=2, threads=1, solver={}),
     # full: every run of the thesis (T = 0.8..1.4 MPa in 0.1 steps, flaw friction 32 and 25,
     # bedding c 5 kPa, conventional) on the quick's blocks, 10 g levels bisected to 1 g (the
     # thesis's 1 g steps); about 35 minutes on 2 cores. Finer blocks change the failure g more
@@ -81,7 +84,7 @@ VARIANTS = {
                  refine_to=1.0, max_steps=40_000,
                  tensile=[1.1e6, 0.8e6, 0.9e6, 1.0e6, 1.2e6, 1.3e6, 1.4e6], frictions=[32.0, 25.0],
                  bedding_cohesion=[5e3], conventional=True, continuum=True,
-                 continuum_h=0.006, workers=2, threads=1),
+                 continuum_h=0.006, workers=2, threads=1, solver={}),
 }
 
 FAILURE_DISPLACEMENT = 0.005     # m in one level: 1.5 % of the slope height

@@ -56,10 +56,11 @@ def ramp_members(v: dict, seed: int, **studies) -> list:
     [25.0])}`` or ``{"bedding c {:g} kPa": ("bedding_cohesion", [5e3], 1e3)}``. When the run
     writes VTK files (``store.vtk_folder``), each member gets ``vtk``: its file,
     ``<folder>/<label as file name>.vtu``; inside a case run each gets ``checkpoint``, where
-    ``ramp_run`` keeps its progress (``store.checkpoint``)."""
+    ``ramp_run`` keeps its progress (``store.checkpoint``). ``v["solver"]`` (optional): Model
+    options over the scene's for every member, e.g. ``{"edge_elements": True}``."""
     base = dict(edge_length=v["edge_length"], relax_iterations=v["relax_iterations"], seed=seed)
     common = dict(g_levels=v["g_levels"], max_steps=v["max_steps"], threads=v.get("threads", 1),
-                  refine_to=v.get("refine_to"))
+                  refine_to=v.get("refine_to"), solver=dict(v.get("solver", {})))
     members = []
     if v["conventional"]:
         members.append(dict(label="conventional", params=dict(base, conventional=True),

@@ -1,5 +1,9 @@
-"""Command line: ``python -m comparisons list | run CASE [--quick|--full] [--out DIR] [--resume]
-[--vtk] | run-scene FILE [--out DIR] [--vtk] | demo``.
+"""Command line: ``python -m comparisons list | run CASE [--quick|--full] [--set KEY=VALUE ...]
+[--out DIR] [--resume] [--vtk] | run-scene FILE [--out DIR] [--vtk] | demo``.
+
+``--set`` changes one setting of the chosen variant (a key of the case's ``VARIANTS``; VALUE
+is JSON, else a string), e.g. ``run adhikary --full --set 'solver={"edge_elements": true}'``
+or ``run lajtai --set zone_size=0.0035``; the run is then the "custom" variant.
 
 Bad input (an unknown case, a scene file that does not load, an --out that cannot be written)
 ends in one line on stderr and exit status 2, before any compute."""
@@ -28,6 +32,8 @@ def main(argv=None) -> int:
     variant.add_argument("--full", dest="variant", action="store_const", const="full")
     run.add_argument("--out", default="results", help="results root (default: results/)")
     run.add_argument("--seed", type=int, default=1)
+    run.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                     help="change a setting of the variant (VALUE as JSON); repeatable")
     run.add_argument("--quiet", action="store_true")
     run.add_argument("--resume", action="store_true",
                      help="load the sweep members an earlier, interrupted run of this case "
@@ -56,7 +62,7 @@ def main(argv=None) -> int:
     if args.command == "demo":
         return run_case(registry.DEMO_CASE, "quick", Path(args.out), seed=1, quiet=False)
     return run_case(args.case, args.variant or "quick", Path(args.out), args.seed, args.quiet,
-                    resume=args.resume, vtk=args.vtk)
+                    resume=args.resume, vtk=args.vtk, settings=args.set)
 
 
 def fail(message: str) -> int:
@@ -66,20 +72,22 @@ def fail(message: str) -> int:
 
 
 def run_case(name: str, variant: str, out: Path, seed: int, quiet: bool, resume: bool = False,
-             vtk: bool = False) -> int:
+             vtk: bool = False, settings=()) -> int:
     """Run case ``name`` and write its results to ``out/name``; its sweep members are kept in
     ``out/name/members`` (``resume``: load the kept ones), VTK files go to ``out/name/vtk``
-    (``vtk``; ``comparisons.store``). An unknown case or an unwritable ``out`` is refused
-    before any compute (``fail``)."""
+    (``vtk``; ``comparisons.store``). ``settings``: "KEY=VALUE" changes of the variant
+    (``custom_variant``). An unknown case, setting or an unwritable ``out`` is refused before
+    any compute (``fail``)."""
     try:
         module = registry.case_module(name)
         store.check_folder(Path(out) / name)
+        chosen = custom_variant(module, variant, settings) if settings else variant
     except ValueError as e:
         return fail(str(e))
     progress = Progress(name, quiet=quiet)
     t0 = time.perf_counter()
     with store.case_output(Path(out) / name, resume=resume, vtk=vtk):
-        result = module.run(variant=variant, seed=seed, progress=progress)
+        result = module.run(variant=chosen, seed=seed, progress=progress)
     folder = write_results(result, out)
     print(f"{name} ({variant}) finished in {time.perf_counter() - t0:.1f} s")
     for metric, e in result.errors.items():
@@ -88,6 +96,35 @@ def run_case(name: str, variant: str, out: Path, seed: int, quiet: bool, resume:
             print(f"  {metric}: ours {e['ours']:.4g}, reference {e['reference']}{rel}")
     print(f"results written to {folder.resolve()}/ (report: {(folder / 'report.md').resolve()})")
     return 0
+
+
+def custom_variant(module, variant: str, settings) -> dict:
+    """The settings of ``module.VARIANTS[variant]`` with each "KEY=VALUE" of ``settings``
+    applied (VALUE parsed as JSON, else taken as a string). ValueError names an item that is
+    not KEY=VALUE or a KEY the variant does not have."""
+    import json
+
+    out = dict(module.VARIANTS[variant])
+    for item in settings:
+        key, sep, text = item.partition("=")
+        if not sep or not key:
+            raise ValueError(f"--set takes KEY=VALUE, got {item!r}")
+        if key not in out:
+            raise ValueError(f"--set {key}: not a setting of {module.__name__.split('.')[-1]}"
+                             f" (settings: {', '.join(sorted(out))})")
+        try:
+            value = json.loads(text)
+        except json.JSONDecodeError:
+            value = text
+        base = out[key]
+        numbers = (int, float)
+        if base is not None and not isinstance(value, type(base)) and not (
+                isinstance(base, numbers) and isinstance(value, numbers)
+                and not isinstance(value, bool)):
+            raise ValueError(f"--set {key}: expected a {type(base).__name__} like {base!r}, "
+                             f"got {value!r}")
+        out[key] = value
+    return out
 
 
 def run_scene_file(path, out: Path, vtk: bool = False, quiet: bool = False) -> int:

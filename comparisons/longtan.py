@@ -42,19 +42,22 @@ REFERENCE = {
     "source": "Alzo'ubi (2009) thesis 4.3; Zhang, Chen & Wang (2006/2007)",
 }
 
+# solver (both variants): Model options over the scene's for every run, e.g. {"edge_elements":
+# True}; neither contact model makes the failure g converge with block size here (the bridges'
+# tips: docs/verification.md)
 VARIANTS = {
     # quick: 8 mm blocks near the face (about 1.5 across the toe column's bridges, 2 across
     # the others'), 40 g levels bisected to 10 g, the base strength only (about 1.5 minutes on
     # 2 cores)
     "quick": dict(edge_length=0.008, relax_iterations=10, g_levels=list(range(40, 401, 40)),
                   refine_to=10.0, max_steps=30_000, tensile=[4.81e6], conventional=True,
-                  continuum=True, continuum_h=0.02, workers=2, threads=1),
+                  continuum=True, continuum_h=0.02, workers=2, threads=1, solver={}),
     # full: 5 mm blocks (2.3 across the toe bridges), 20 g levels bisected to 2 g, three
     # tensile strengths (each run 4-8 minutes on one core: docs/comparisons.md, "After the
     # solver fix")
     "full": dict(edge_length=0.005, relax_iterations=50, g_levels=list(range(20, 601, 20)),
                  refine_to=2.0, max_steps=60_000, tensile=[4.81e6, 3.5e6, 2.5e6], conventional=True,
-                 continuum=True, continuum_h=0.008, workers=2, threads=1),
+                 continuum=True, continuum_h=0.008, workers=2, threads=1, solver={}),
 }
 
 FAILURE_DISPLACEMENT = 0.006     # m in one level: 1.5 % of the slope height

@@ -54,6 +54,32 @@ def test_an_out_folder_that_is_a_file_is_refused_before_any_compute(tmp_path, ca
     assert "cannot write results" in line and str(blocker) in line
 
 
+@pytest.mark.parametrize("item, words", [
+    ("bogus=1", ["--set bogus", "not a setting of lajtai", "zone_size"]),
+    ("zone_size", ["KEY=VALUE", "'zone_size'"]),
+    ("ucs_edge=[1, 2]", ["--set ucs_edge", "expected a float", "[1, 2]"]),
+])
+def test_a_bad_variant_setting_is_refused_before_any_compute(tmp_path, capsys, no_compute,
+                                                             item, words):
+    assert cli.main(["run", "lajtai", "--set", item, "--out", str(tmp_path)]) == 2
+    line = one_line(capsys.readouterr().err)
+    assert all(w in line for w in words), line
+
+
+def test_a_variant_setting_makes_a_custom_variant(tmp_path, monkeypatch):
+    seen = {}
+
+    def fake_run(variant, seed, progress):
+        seen.update(variant)
+        raise KeyboardInterrupt        # stop here: only the settings are checked
+    monkeypatch.setattr(registry.case_module("adhikary"), "run", fake_run)
+    with pytest.raises(KeyboardInterrupt):
+        cli.main(["run", "adhikary", "--full", "--set", 'solver={"edge_elements": true}',
+                  "--set", "max_steps=50000", "--out", str(tmp_path)])
+    full = registry.case_module("adhikary").VARIANTS["full"]
+    assert seen == {**full, "solver": {"edge_elements": True}, "max_steps": 50000}
+
+
 @pytest.mark.skipif(os.geteuid() == 0, reason="root writes into read-only folders")
 def test_a_read_only_out_folder_is_refused_before_any_compute(tmp_path, capsys, no_compute):
     out = tmp_path / "ro"
