@@ -2,6 +2,7 @@
 time per Newton iteration against dofs.
 
     .venv/bin/python benchmarks/performance.py [--quick | --full]
+    .venv/bin/python benchmarks/performance.py --limit 100000   # the machine limit alone
 
 - Scaling: ``throughput.run`` (bonded Voronoi square on a fixed base at 50 g) for 1e3..1e4
   (quick) or 1e3..1e5 (full) blocks, with 1 thread (the serial kernel) and 2 threads (the
@@ -27,13 +28,16 @@ import numpy as np
 import scenes
 import throughput
 
-# Streamed per contact and step by add_contact_forces (dtypes of dem_core.contacts):
-# read block_a, block_b (int32 4+4), point_a, point_b, normal_b (3 x 16), length, kn, ks (3 x 8),
-# material (4), up (8), broken (1) = 93 B; written sn, ts, un, us, up (5 x 8) + slipping (1) = 41 B,
-# of which 33 B are lines not read before (write-allocate: read once more) -> 93 + 41 + 33 = 167 B.
-# The block data (pos, rot gathered; f read-modify-written, 2 blocks x 64 B) stay in cache when
+# Streamed per contact and step by add_contact_forces on the elastic path of a rigid-block model
+# (dtypes of dem_core.contacts; recounted 2026-11-26 for the incremental law's layout): read
+# block_a, block_b (int32 4+4), point_a, point_b, normal_b (3 x 16), face, anchor, broken (int8
+# 3 x 1), length, kn, ks (3 x 8), material (4), sn_elastic, ts, un, us (4 x 8) = 119 B; written
+# sn, ts, sn_elastic, un, us (5 x 8) + slipping (1) = 41 B, of which sn and slipping (9 B) are
+# lines not read before (write-allocate: read once more) -> 119 + 41 + 9 = 169 B. (up is read
+# and written only when a contact slips or breaks; partner only with edge elements.)
+# The block data (pos, rot, rot_half gathered; f read-modify-written) stay in cache when
 # contacts are ordered by block (sort_for_locality) and are not counted.
-BYTES_PER_CONTACT = 167
+BYTES_PER_CONTACT = 169
 # Arithmetic per contact (from the source; mul/add/compare, no division or sqrt on the elastic
 # path): world points and gap 2 x 8 + 2, normal 6, u_n, u_s 6, law ~ 10, forces 6, moments 2 x 5,
 # force scatter 6 adds -> about 60 flops.
@@ -173,9 +177,33 @@ def plot(out, path):
     fig.savefig(path, dpi=110)
 
 
+def machine_limit(n_blocks: int, rounds: int = 3) -> dict:
+    """Bandwidth (best of ``rounds``) and the serial step's ns per contact update at
+    ``n_blocks`` (best of ``rounds``, 200 steps each) in one run, against the bound
+    BYTES_PER_CONTACT / copy bandwidth (issue 29 item 2: within 2x). One JSON line."""
+    import json
+
+    bw = max((bandwidth() for _ in range(rounds)), key=lambda b: b["copy_GB_s"])
+    runs = [throughput.run(n_blocks, 200, threads=1) for _ in range(rounds)]
+    ns = min(r["ns_per_contact_update"] for r in runs)
+    bound = BYTES_PER_CONTACT / bw["copy_GB_s"]
+    out = {"machine": scenes.machine(), "blocks": runs[0]["blocks"],
+           "contacts": runs[0]["contacts"], "bandwidth": bw,
+           "bytes_per_contact_update": BYTES_PER_CONTACT, "bound_ns_per_update": round(bound, 2),
+           "measured_ns_per_update": [r["ns_per_contact_update"] for r in runs],
+           "best_over_bound": round(ns / bound, 2)}
+    print(json.dumps(out), flush=True)
+    return out
+
+
 def main(argv=None):
     ap = scenes.quick_or_full_parser(__doc__.splitlines()[0])
+    ap.add_argument("--limit", type=int, metavar="N",
+                    help="only the machine limit: the bandwidth and the serial rate at N blocks "
+                         "in one run, and how far the rate is from the bandwidth bound")
     a = ap.parse_args(argv)
+    if a.limit:
+        return machine_limit(a.limit)
     out = {"machine": scenes.machine(), "mode": "full" if a.full else "quick",
            "threads": [1, 2],
            "note": "1 thread: serial kernel; 2 threads: dem_core.parallel (bit-identical); "
