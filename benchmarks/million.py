@@ -24,6 +24,19 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
+def huge_gb() -> float:
+    """Resident memory of this process in transparent huge pages now, GB (0 where the kernel
+    has none): large arrays in 4 kB pages cost a TLB miss per page touched."""
+    try:
+        with open("/proc/self/smaps_rollup") as f:
+            for line in f:
+                if line.startswith("AnonHugePages:"):
+                    return int(line.split()[1]) * 1024 / 1e9
+    except OSError:
+        pass
+    return 0.0
+
+
 def rss_gb() -> float:
     """Resident memory of this process now, GB."""
     with open("/proc/self/statm") as f:
@@ -60,7 +73,8 @@ def one_size(n_blocks, steps):
     sec = time.perf_counter() - t0
     row.update(steps=steps, seconds=round(sec, 2),
                ns_per_contact_update=round(1e9 * sec / (m.contacts.n * steps), 2),
-               rss_after_steps_gb=round(rss_gb(), 3), peak_rss_gb=round(peak_gb(), 3))
+               rss_after_steps_gb=round(rss_gb(), 3), huge_pages_gb=round(huge_gb(), 3),
+               peak_rss_gb=round(peak_gb(), 3))
     del m, bs
     return row
 

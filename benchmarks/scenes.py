@@ -62,8 +62,7 @@ def machine() -> dict:
     return {"node": platform.node(), "cpu": cpu, "cores": os.cpu_count(),
             "platform": platform.platform(), "python": sys.version.split()[0],
             "numpy": np.__version__, "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
-            "load_average_at_start": [round(x, 2) for x in load],
-            "note": "2-core Debian 12 VM shared with two other engineers' DEM jobs"}
+            "load_average_at_start": [round(x, 2) for x in load]}   # (other jobs running?)
 
 
 def write_json(name: str, payload: dict) -> Path:
