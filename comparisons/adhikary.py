@@ -121,7 +121,7 @@ def _members(v: dict, seed: int) -> list:
 
 def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
     """Run the case: ``variant`` is "quick", "full" or a settings mapping (``VARIANTS`` keys)."""
-    variant, v = pick_variant("adhikary", VARIANTS, variant)
+    variant, v = pick_variant("adhikary", VARIANTS, variant, optional={"solver": {}})
     progress = progress or (lambda message: None)
     result = CaseResult("adhikary", variant, seed, reference=dict(REFERENCE))
     members = _members(v, seed)

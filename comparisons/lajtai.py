@@ -224,7 +224,7 @@ def _flaw_params(cfg, **over):
 # ---------------------------------------------------------------------------- the run
 def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
     """Run the case: ``variant`` is "quick", "full" or a settings mapping (``VARIANTS`` keys)."""
-    variant, cfg = pick_variant("lajtai", VARIANTS, variant)
+    variant, cfg = pick_variant("lajtai", VARIANTS, variant, optional={"zone_size": None})
     cfg["seed"] = seed
     say = progress or (lambda msg: None)
     res = CaseResult(case="lajtai", variant=variant, seed=seed)

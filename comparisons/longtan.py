@@ -79,7 +79,7 @@ def run_member(member: dict) -> dict:
 
 def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
     """Run the case: ``variant`` is "quick", "full" or a settings mapping (``VARIANTS`` keys)."""
-    variant, v = pick_variant("longtan", VARIANTS, variant)
+    variant, v = pick_variant("longtan", VARIANTS, variant, optional={"solver": {}})
     progress = progress or (lambda message: None)
     result = CaseResult("longtan", variant, seed, reference=dict(REFERENCE))
     members = centrifuge.ramp_members(v, seed)

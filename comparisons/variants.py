@@ -8,9 +8,11 @@ from __future__ import annotations
 __all__ = ["pick_variant"]
 
 
-def pick_variant(case: str, variants: dict, variant) -> tuple:
+def pick_variant(case: str, variants: dict, variant, optional=None) -> tuple:
     """(name, settings) of ``variant``: a key of ``variants``, or a mapping with exactly the
-    keys every named variant has (its name is then "custom"). ValueError names the problem."""
+    keys every named variant has (its name is then "custom"), except that the keys of
+    ``optional`` may be left out and then take its values (settings added after custom
+    variants were written, e.g. ``{"solver": {}}``). ValueError names the problem."""
     if isinstance(variant, str):
         if variant not in variants:
             raise ValueError(f"{case}: variant must be one of {sorted(variants)} or a settings "
@@ -19,9 +21,11 @@ def pick_variant(case: str, variants: dict, variant) -> tuple:
     if not isinstance(variant, dict):
         raise ValueError(f"{case}: variant must be a name or a settings mapping, got "
                          f"{type(variant).__name__}")
+    optional = dict(optional or {})
     keys = set(next(iter(variants.values())))
-    missing, unknown = keys - set(variant), set(variant) - keys
+    missing = keys - set(variant) - set(optional)
+    unknown = set(variant) - keys
     if missing or unknown:
         raise ValueError(f"{case}: custom variant has unknown settings {sorted(unknown)} and "
                          f"lacks {sorted(missing)}")
-    return "custom", dict(variant)
+    return "custom", {**optional, **variant}
