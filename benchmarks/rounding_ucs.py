@@ -20,27 +20,23 @@ import json
 import platform
 import time
 
-from comparisons import lab
-from comparisons.lajtai import VARIANTS
+from comparisons import lab, lajtai
 from comparisons.scenes import lajtai as scene
 from dem_core.scene import build_model
 from dem_core.stages import run_stages
 
 
 def quick_ucs_scene(cohesion, seed=1, **solver):
-    """The quick variant's UCS test as a scene (the thesis's flaws with ``cohesion``, Pa), its
-    solver options updated with ``solver``."""
-    cfg = VARIANTS["quick"]
-    p = scene.FlawParams(edge_length=cfg["ucs_edge"], tensile=scene.THESIS_TENSILE,
-                         cohesion=cohesion, friction=scene.THESIS_FRICTION, kn=scene.THESIS_KN,
-                         ks=scene.THESIS_KS, seed=seed)
-    sc = scene.ucs_scene(p, rate=cfg["ucs_rate"], max_strain=cfg["ucs_max_strain"])
+    """The quick variant's UCS test as a scene (the case's own, ``lajtai.ucs_scene_of``; the
+    thesis's flaws with ``cohesion``, Pa), its solver options updated with ``solver``."""
+    sc = lajtai.ucs_scene_of(lajtai.ucs_query(dict(lajtai.VARIANTS["quick"], seed=seed),
+                                              cohesion))
     return dataclasses.replace(sc, solver={**sc.solver, **solver})
 
 
 def ucs(fraction, cohesion, seed=1):
     """One quick-variant UCS test with rounding = fraction x the block edge; a dict."""
-    edge = VARIANTS["quick"]["ucs_edge"]
+    edge = lajtai.VARIANTS["quick"]["ucs_edge"]
     sc = quick_ucs_scene(cohesion, seed, rounding=fraction * edge)
     t0 = time.perf_counter()
     m = build_model(sc)

@@ -135,15 +135,11 @@ def ucs_member(q: dict) -> dict:
     """One compression (``q["test"] == "ucs"``) or tension test; plain data in and out. The
     result's ``picture`` is the specimen at the end of the test (``block_picture``); with
     ``q["vtk"]`` (a .vtu path) the model's final state is written there too."""
-    p = scene.FlawParams(edge_length=q["edge"], tensile=q["tensile"], cohesion=q["cohesion"],
-                         friction=q["friction"], kn=q["kn"], ks=q["ks"], seed=q["seed"])
     width = q.get("width", scene.UCS_WIDTH)
     height = 2.0 * width
     t0 = time.perf_counter()
     glued = q.get("test") == "tension"
-    sc = _deformable(scene.ucs_scene(p, width, height, glued_platens=glued,
-                                     safety=q.get("safety", 0.5), rate=q["rate"],
-                                     max_strain=q["max_strain"]), q)
+    sc = ucs_scene_of(q)
     m = build_model(sc)
     records = run_stages(m, sc.stages, progress=stage_reporter(m, len(sc.stages)))
     cv = lab.curve_of(records[-1], m, t0, 1.0 / height, "gauge", 0.0 if glued else 1.0 / width)
@@ -162,6 +158,18 @@ def ucs_member(q: dict) -> dict:
                 [cv.x, cv.y, cv.lateral]), "ipeak": ipk,
             "picture": block_picture(m, cracks=None, joints=()),
             "runtime_s": time.perf_counter() - t0, "params": q}
+
+
+def ucs_scene_of(q: dict):
+    """The scene of one compression (``q["test"] == "ucs"``) or tension test (``ucs_member``'s
+    input, e.g. ``ucs_query``): the specimen, its platens and its loading stage."""
+    p = scene.FlawParams(edge_length=q["edge"], tensile=q["tensile"], cohesion=q["cohesion"],
+                         friction=q["friction"], kn=q["kn"], ks=q["ks"], seed=q["seed"])
+    width = q.get("width", scene.UCS_WIDTH)
+    return _deformable(scene.ucs_scene(p, width, 2.0 * width,
+                                       glued_platens=q.get("test") == "tension",
+                                       safety=q.get("safety", 0.5), rate=q["rate"],
+                                       max_strain=q["max_strain"]), q)
 
 
 def shear_member(q: dict) -> dict:
