@@ -71,11 +71,13 @@ def load_parts(path) -> dict:
 
 def _bundle(d, name, cls):
     """Bundle ``name`` of the file's arrays ``d``; fields added since the file was written
-    come from ``cls.fields_of_old_files(fields the file has)``, if the class has it (else
+    come from ``cls.fields_of_old_files(the bundle's fields the file has)``, if the class has
+    it (else
     the KeyError says the file is not a model file)."""
     have = {f: d[f"{name}.{f}"] for f in cls._fields if f"{name}.{f}" in d}
     if len(have) < len(cls._fields) and hasattr(cls, "fields_of_old_files"):
-        have = {**cls.fields_of_old_files(have), **have}
+        held = {k.split(".", 1)[1]: v for k, v in d.items() if k.startswith(name + ".")}
+        have = {**cls.fields_of_old_files(held), **have}
     return cls(**{f: have[f] for f in cls._fields})
 
 

@@ -311,7 +311,7 @@ def _cable_arrays(model, cab: Cable, tree) -> dict:
         node_pos0=xy.copy(),
         node_tangent=np.zeros((nseg + 1, 2)), node_axis=np.tile(axis, (nseg + 1, 1)),
         node_host=host, node_local=local, grout_k=grout_k,
-        grout_cap=cap, grout_slip=np.zeros(nseg + 1), grout_force=np.zeros(nseg + 1),
+        grout_cap=cap, grout_plastic=np.zeros((nseg + 1, 2)), grout_force=np.zeros(nseg + 1),
         node_state=np.zeros(nseg + 1), node_inv_mass=np.zeros(nseg + 1),
         seg_a=np.arange(nseg), seg_b=np.arange(1, nseg + 1), seg_length0=np.full(nseg, lseg),
         seg_k=np.full(nseg, ea), seg_yield_t=np.full(nseg, cab.yield_tension / s),

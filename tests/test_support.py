@@ -274,3 +274,47 @@ def test_cables_and_liners_are_written_for_paraview(tmp_path):
     cb = m.cables
     lines = np.concatenate([c.data for c in back.cells if c.type == "line"])[-cb.seg_a.size:]
     assert np.allclose(back.points[lines[:, 0], :2], cb.node_pos[cb.seg_a], rtol=0, atol=1e-12)
+
+
+def test_grout_slip_made_along_the_axis_stays_slip_when_the_axis_turns():
+    """A node slid 0.1 m along its hole (grout at its strength: plastic), then the cable turns
+    90 degrees at the node (its neighbours moved): the grout holds the node with at most its
+    strength. (Plastic slip kept as a scalar along the current axis turned the 0.1 m into an
+    elastic offset across the new axis: 1e8 N/m/m x 0.1 m, and the full Checkerboard
+    supported slope blew up; docs/history.md.)"""
+    m = pulled_cable(two_blocks(), grout_strength=1e3, yield_tension=1.0)
+    m.fix("block")
+    cb = m.cables
+    i = int(np.argmin(np.abs(cb.node_pos[:, 0] - 3.0)))           # a node in the fixed rock
+    cap = cb.grout_cap[i]
+    cb.node_pos[i, 0] += 0.1
+    m.cycle(1)
+    assert abs(cb.grout_force[i]) == pytest.approx(cap)            # it slipped
+    x = cb.node_pos[i].copy()
+    cb.node_pos[i - 1] = x + (0.0, -0.1)                           # the axis now along y
+    cb.node_pos[i + 1] = x + (0.0, 0.1)
+    cb.node_vel[:] = 0.0
+    m.cycle(1)
+    grout = np.hypot(*cb.node_force[i])                  # (its segments carry at most 1 N/m)
+    assert grout <= 1.5 * cap + 2.0
+    assert abs(cb.grout_force[i]) <= cap
+
+
+def test_a_broken_liner_bond_pushes_only_while_the_node_is_over_its_face():
+    """The right block's bonds broken, then the block moved 3 m along the surface and 0.1 m
+    up: its top face's line passes 0.1 m above the liner's nodes there, but the face is no
+    longer under them, so they are not pushed (a push of kn l x 0.1 m threw liner nodes and
+    blocks out of the cracking Checkerboard slope; docs/history.md)."""
+    m = liner_over_opening(bond_kn=1e11, bond_tension=1e3)
+    ln = m.liners
+    right = m.group("right")[0]
+    ln.bond_state[ln.bond_host == right] = 1
+    m.set_gravity(0.0)
+    m.state.pos[right] += (3.0, 0.1)
+    m.cycle(1)
+    mine = ln.bond_host == right
+    assert np.all(ln.bond_force[mine] == 0.0)
+    # while a node over its face is still pushed out: the block moved 0.01 m up only
+    m.state.pos[right] -= (3.0, 0.09)
+    m.cycle(1)
+    assert ln.bond_force[mine, 0].min() < 0.0

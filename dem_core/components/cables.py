@@ -12,11 +12,19 @@ a segment whose total strain (L - L0) / L0 passes its rupture strain breaks for 
 Node a gets +F e, node b -F e (e the unit vector a -> b): a cable in tension pulls its ends in.
 
 Grout (per node, over its tributary length): the node's offset r = x_node - x_host from the
-host block's point it was installed on, split along the cable's local axis t (the mean of the
-adjacent segments' directions) and across it (n)::
+host block's point it was installed on, less the grout's plastic offset r_p (a vector, world
+frame), split along the cable's local axis t (the mean of the adjacent segments' directions)
+and across it (n)::
 
-    F_axial = k_g (r . t - slip),  |F_axial| <= cap      (perfectly plastic: slip grows)
-    F_across = k_g (r . n)                                (elastic: the node stays in its hole)
+    e = r - r_p
+    F_axial = k_g (e . t),  |F_axial| <= cap   (perfectly plastic: r_p grows along t)
+    F_across = k_g (e . n)                     (elastic: the node stays in its hole)
+
+The plastic offset is a vector so that the grout's elastic energy k_g |e|^2 / 2 does not depend
+on the axis: when the axis turns (the cable bends where blocks part), a slip already made along
+the old axis stays slip, and is not turned into an elastic offset across the new one (a scalar
+slip along the current axis did that, and fed energy into a cracking slope:
+docs/history.md).
 
 The grout pulls the node by -(F_axial t + F_across n) and the host block by the opposite, at
 the host point (so momentum is conserved). A node whose host was excavated is free.
@@ -59,7 +67,8 @@ class Cables(NamedTuple):
         point in the host's body frame.
     grout_k : (N,) N/m per m, grout stiffness x tributary length / spacing.
     grout_cap : (N,) N/m, grout strength x tributary length / spacing (inf: a face plate;
-        0: free length). grout_slip : (N,) m. grout_force : (N,) N/m axial, on the cable.
+        0: free length). grout_plastic : (N, 2) m, the plastic offset r_p (world frame).
+        grout_force : (N,) N/m axial, on the cable.
     node_state : (N,) int8, 1 once the grout slipped. node_inv_mass : (N,) 1/(kg/m) inertial.
     node_cable : (N,) int64 cable index.
     seg_a, seg_b : (S,) int64 nodes. seg_length0 : (S,) m. seg_k : (S,) N/m per m.
@@ -80,7 +89,7 @@ class Cables(NamedTuple):
     node_local: np.ndarray
     grout_k: np.ndarray
     grout_cap: np.ndarray
-    grout_slip: np.ndarray
+    grout_plastic: np.ndarray
     grout_force: np.ndarray
     node_state: np.ndarray
     node_inv_mass: np.ndarray
@@ -99,11 +108,19 @@ class Cables(NamedTuple):
     log_rows: np.ndarray
     log_count: np.ndarray
 
+    @staticmethod
+    def fields_of_old_files(held) -> dict:
+        """A model file from before the vector plastic offset holds a scalar slip along the
+        axis: taken along each node's installation axis (``io``)."""
+        if "grout_slip" not in held:
+            return {}
+        return {"grout_plastic": held["grout_slip"][:, None] * held["node_axis"]}
+
 
 _INT = {"node_host", "node_cable", "seg_a", "seg_b", "seg_cable", "log_count"}
 _INT8 = {"node_state", "seg_state"}
 _PAIRS = {"node_pos", "node_vel", "node_force", "node_pos0", "node_tangent", "node_axis",
-          "node_local"}
+          "node_local", "grout_plastic"}
 
 
 def no_cables() -> Cables:
@@ -182,13 +199,18 @@ def _grout(cb, s, p):
         else:                                   # every adjacent segment ruptured
             tx, ty = cb.node_axis[i, 0], cb.node_axis[i, 1]
         xh, yh = body_point(s.pos, s.rot, h, cb.node_local[i, 0], cb.node_local[i, 1])
-        rx, ry = x[i, 0] - xh, x[i, 1] - yh
+        rp = cb.grout_plastic
+        rx, ry = x[i, 0] - xh - rp[i, 0], x[i, 1] - yh - rp[i, 1]
         k = cb.grout_k[i]
-        along = k * (rx * tx + ry * ty - cb.grout_slip[i])
+        along = k * (rx * tx + ry * ty)
         cap = cb.grout_cap[i]
-        if abs(along) > cap:
+        if abs(along) > cap:               # the excess along the axis becomes plastic offset
             sign = 1.0 if along > 0.0 else -1.0
-            cb.grout_slip[i] = rx * tx + ry * ty - sign * cap / k
+            excess = rx * tx + ry * ty - sign * cap / k
+            rp[i, 0] += excess * tx
+            rp[i, 1] += excess * ty
+            rx -= excess * tx
+            ry -= excess * ty
             along = sign * cap
             if cb.node_state[i] == 0 and cap > 0.0:
                 cb.node_state[i] = 1

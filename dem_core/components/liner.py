@@ -27,7 +27,10 @@ rotation relative to its host since installation::
 (the springs of the half piece lumped at its end node: M is their moment about the node); the
 node gets -(F_n n + F_s t) and -M, the host the opposite. The bond breaks for good when its
 peak normal stress F_n / l + 6 |M| / l^2 exceeds its tensile strength or |F_s| / l its shear
-strength; afterwards the face only pushes (F_n for r . n < 0; no shear, no moment). A bond
+strength; afterwards the face only pushes (F_n for r . n < 0; no shear, no moment), and only
+while the node is over that bond's own bit of face (|r . t| and -r . n at most l): once the
+block has moved or turned away, its face's line no longer reaches the node (without that limit
+a turned face could find the node metres "inside" it and throw it out: docs/history.md). A bond
 whose host was excavated is gone, so a liner spans the opening. Gravity acts on the liner's
 real mass rho t l per node; its inertia is scaled like a cable node's
 (``support.set_node_masses``).
@@ -210,8 +213,10 @@ def _bond(ln, s, p):
             ln.bond_state[k] = 1
             log_event(ln.log_rows, ln.log_count, ln.control[2], x[i, 0], x[i, 1], LINER_BOND,
                       ln.node_liner[i], k)
-        if ln.bond_state[k] != 0:
-            fn, fs, m = min(fn, 0.0), 0.0, 0.0
+        if ln.bond_state[k] != 0:          # only a push, and only over its own bit of face
+            over = (abs(-rx * ny + ry * nx) <= length
+                    and -(rx * nx + ry * ny) <= length)
+            fn, fs, m = (min(fn, 0.0) if over else 0.0), 0.0, 0.0
         gxn = fn * nx - fs * ny                 # the pull on the node is -(gxn, gyn)
         gyn = fn * ny + fs * nx
         ln.bond_force[k, 0], ln.bond_force[k, 1], ln.bond_force[k, 2] = fn, fs, m
