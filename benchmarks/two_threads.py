@@ -10,8 +10,8 @@ every round), so both see the same machine. Reported: ms per step (best and medi
 rounds), the speed-up (one-thread best / two-thread best) and whether the two runs end in the
 same state bit for bit (they must). Then the threaded step's parts at each size, each the
 same numba kernel the step calls, run ``steps`` times inside one numba call (no Python
-between calls): the contact pass (``parallel.add_contact_forces_parallel``: contacts, crack
-log, per-block sums), damping and integration (``step.advance_parallel``), gravity
+between calls): the contact pass (``parallel.add_contact_forces_parallel``: chunks, crack
+log, shared blocks), damping and integration (``step.advance_parallel``), gravity
 (``components.add_gravity``), against the serial kernels. Writes
 ``benchmarks/results/two_threads.json`` and ``two_threads.png``.
 """

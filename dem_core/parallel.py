@@ -1,20 +1,29 @@
 """Contact forces on several threads (numba ``prange``), bit-for-bit equal to the serial kernel.
 
 The serial kernel (``forces.add_contact_forces``) adds each contact's force to its two blocks as
-it goes: in a parallel loop that is a write race. Here the work is split in three passes:
+it goes, in contact order. The contacts are ordered by their lower block
+(``detection.sort_for_locality``), so a contiguous range of contacts touches a band of blocks.
+Here the contact list is cut into one range (a *chunk*) per thread, and each block is either
 
-1. every contact (in parallel, by chunks: about ``CHUNKS_PER_THREAD`` per thread): geometry,
-   the law, its force and point,
-   stored per contact;
-2. the crack log (serially, in contact order, so the log is the same as the serial one),
-   reading only the chunks of pass 1 that had a bond failure;
-3. every block (in parallel): the sum of its contacts' forces in contact order, read through a
-   block -> contact table (CSR) built when the contact list changes; this pass also zeroes
-   the block's force first (the step's zeroing, in the same pass).
+- *owned* by a chunk: all its contacts lie in that chunk. The chunk's thread zeroes its force
+  and adds its contacts' forces as it goes, in contact order, as the serial kernel does: no
+  other thread writes to it, and it gets the same numbers in the same order; or
+- *shared*: its contacts lie in two or more chunks (the blocks along a band's edge, about a row
+  of blocks per cut), or it has none. The chunks store those contacts' forces and points in a
+  scratch array, and after the parallel region one serial pass zeroes each shared block and
+  adds its contacts' forces in contact order through a block -> contact table.
 
-Each block sums the same numbers in the same order as the serial kernel, so the results are
-identical (tests/test_mech_parallel.py). Used when ``Model(threads=n)`` with n > 1 and the
-model has at least ``MIN_CONTACTS`` live contacts.
+So every block sums the same numbers in the same order as the serial kernel and the results
+are bit for bit the same (tests/test_mech_parallel.py). A bond failure is kept per contact
+(event and point) and logged after the region in contact order, reading only the chunks that
+had one, so the crack log is the serial one too. The traffic is the serial kernel's: the
+scratch is written only for the contacts of shared blocks and for failures.
+
+Used when ``Model(threads=n)`` with n > 1 and the model has at least ``MIN_CONTACTS`` live
+contacts. An edge element's correction (``forces.edge_correction``) needs its partner contact
+updated first: the partner joins the same two blocks, so for an owned block it lies in the same
+chunk, before it; for a shared block the correction is computed in the serial pass, after all
+contacts are updated.
 """
 from __future__ import annotations
 
@@ -26,119 +35,199 @@ from numba import njit, prange
 from .forces import contact_update, edge_correction, log_crack
 
 __all__ = ["Parallel", "contact_table", "add_contact_forces_parallel", "no_parallel",
-           "parallel_bundle"]
+           "parallel_bundle", "chunk_owners"]
 
 
 class Parallel(NamedTuple):
-    """Scratch and the block -> contact table of the threaded kernel; all empty: serial.
+    """The threaded kernel's chunks, owners, scratch and shared-block table; all empty: serial.
 
-    work : (nc, 4) float64. Per contact: force on B (N/m) and contact point (m).
-    events : (nc,) int64. Per contact: the law's event.
-    failures : (number of chunks,) int64. Per chunk of the first pass: its bond failures (the
-        crack-log pass reads only the chunks that have some).
-    offsets : (nb + 1,) int64, entries : (2 nc,) int64. ``contact_table``.
-    chunk : int. Contacts per chunk of the first pass (0 when serial).
+    first : (chunks + 1,) int64. Chunk j is the contacts first[j] <= k < first[j + 1].
+    owner : (nb,) int64. The chunk that holds all of block i's contacts, or -1 (shared).
+    own_offsets : (chunks + 1,) int64, own_blocks : int64. The blocks each chunk owns.
+    shared : (ns,) int64. The shared blocks (contacts in several chunks, or none).
+    offsets : (ns + 1,) int64, entries : int64. The contacts of each shared block in contact
+        order; an entry is 2 k for block A of contact k (force subtracted), 2 k + 1 for B.
+    work : (nc, 4) float64. Force on B (N/m) and point (m) of contact k, written when k
+        touches a shared block or fails.
+    events : (nc,) int8. The failure event (1 tension, 2 shear) of contact k this step, set by
+        the chunk, read and cleared by the crack-log pass; 0 otherwise.
+    failures : (chunks,) int64. Each chunk's bond failures this step.
     """
 
+    first: np.ndarray
+    owner: np.ndarray
+    own_offsets: np.ndarray
+    own_blocks: np.ndarray
+    shared: np.ndarray
+    offsets: np.ndarray
+    entries: np.ndarray
     work: np.ndarray
     events: np.ndarray
     failures: np.ndarray
-    offsets: np.ndarray
-    entries: np.ndarray
-    chunk: int
 
 
 def no_parallel() -> Parallel:
     """The empty bundle: the step runs the serial kernel."""
-    return Parallel(np.zeros((0, 4)), np.zeros(0, np.int64), np.zeros(0, np.int64),
-                    np.zeros(0, np.int64), np.zeros(0, np.int64), 0)
+    e = np.zeros(0, np.int64)
+    return Parallel(e, e, e, e, e, e, e, np.zeros((0, 4)), np.zeros(0, np.int8), e)
 
 
 def parallel_bundle(c, nb, threads) -> Parallel:
-    """Scratch and table for the live contacts of ``c`` among ``nb`` blocks, on ``threads``."""
-    offsets, entries = contact_table(c.count[0], c.block_a, c.block_b, nb)
-    chunk = max(MIN_CHUNK, -(-c.n // (CHUNKS_PER_THREAD * threads)))
-    return Parallel(np.empty((c.n, 4)), np.empty(c.n, np.int64),
-                    np.zeros(-(-c.n // chunk), np.int64), offsets, entries, chunk)
+    """Chunks, owners and table for the live contacts of ``c`` among ``nb`` blocks, one chunk
+    per thread (``threads``)."""
+    nc = int(c.count[0])
+    chunks = max(1, min(threads, nc))
+    first = np.array([nc * j // chunks for j in range(chunks + 1)], np.int64)
+    owner = chunk_owners(first, c.block_a, c.block_b, nb)
+    own_offsets, own_blocks = _owned(owner, chunks)
+    shared = np.flatnonzero(owner < 0).astype(np.int64)
+    offsets, entries = contact_table(nc, c.block_a, c.block_b, nb, shared)
+    return Parallel(first, owner, own_offsets, own_blocks, shared, offsets, entries,
+                    np.empty((c.n, 4)), np.zeros(c.n, np.int8), np.zeros(chunks, np.int64))
 
 
 @njit(cache=True)
-def contact_table(nc, block_a, block_b, nb):
-    """(offsets (nb + 1,), entries (2 nc,)): the contacts of each block in contact order; an
-    entry is 2 k for block A of contact k (force subtracted), 2 k + 1 for block B (added)."""
-    count = np.zeros(nb + 1, np.int64)
-    for k in range(nc):
-        count[block_a[k] + 1] += 1
-        count[block_b[k] + 1] += 1
+def chunk_owners(first, block_a, block_b, nb):
+    """(nb,) the chunk holding all of each block's contacts, or -1: in several, or in none."""
+    owner = np.full(nb, -2, np.int64)              # -2: no contact yet
+    for j in range(first.shape[0] - 1):
+        for k in range(first[j], first[j + 1]):
+            for i in (block_a[k], block_b[k]):
+                if owner[i] == -2:
+                    owner[i] = j
+                elif owner[i] != j:
+                    owner[i] = -1
     for i in range(nb):
-        count[i + 1] += count[i]
-    fill = count[:-1].copy()
-    entries = np.empty(2 * nc, np.int64)
+        if owner[i] == -2:
+            owner[i] = -1
+    return owner
+
+
+def _owned(owner, chunks):
+    """(offsets (chunks + 1,), blocks): the blocks each chunk owns, by chunk."""
+    blocks = np.flatnonzero(owner >= 0)
+    blocks = blocks[np.argsort(owner[blocks], kind="stable")].astype(np.int64)
+    counts = np.bincount(owner[owner >= 0], minlength=chunks)
+    return np.concatenate([[0], np.cumsum(counts)]).astype(np.int64), blocks
+
+
+@njit(cache=True)
+def contact_table(nc, block_a, block_b, nb, blocks):
+    """(offsets (len(blocks) + 1,), entries): the contacts of each of ``blocks`` in contact
+    order; an entry is 2 k for block A of contact k, 2 k + 1 for block B."""
+    row = np.full(nb, -1, np.int64)
+    for r in range(blocks.shape[0]):
+        row[blocks[r]] = r
+    count = np.zeros(blocks.shape[0] + 1, np.int64)
     for k in range(nc):
-        a, b = block_a[k], block_b[k]
-        entries[fill[a]] = 2 * k
-        fill[a] += 1
-        entries[fill[b]] = 2 * k + 1
-        fill[b] += 1
+        for i in (block_a[k], block_b[k]):
+            if row[i] >= 0:
+                count[row[i] + 1] += 1
+    for r in range(blocks.shape[0]):
+        count[r + 1] += count[r]
+    fill = count[:-1].copy()
+    entries = np.empty(count[-1], np.int64)
+    for k in range(nc):
+        ra, rb = row[block_a[k]], row[block_b[k]]
+        if ra >= 0:
+            entries[fill[ra]] = 2 * k
+            fill[ra] += 1
+        if rb >= 0:
+            entries[fill[rb]] = 2 * k + 1
+            fill[rb] += 1
     return count, entries
 
 
-# parallel=True without a prange, as forces.add_contact_forces (numba's parallel pipeline
-# compiles the loop much faster than the plain one), and the same inlined contact_update in
-# the same kind of loop: the same machine arithmetic as the serial kernel. (Inlining
-# contact_update straight into the prange body instead gave different round-off in numba 0.68:
-# a shear displacement of 0 where the serial kernel had -3.5e-18 m.)
-@njit(cache=True, parallel=True)
-def contact_range(c, strength, s, rnd, dfm, work, events, k0, k1):
-    """Contacts k0 <= k < k1 (``forces.contact_update``): force on B, point and event stored
-    per contact in ``work`` and ``events``; returns the number of bond failures among them."""
-    failures = 0
-    for k in range(k0, k1):
-        fx, fy, xa, ya, event = contact_update(k, c, strength, s, rnd, dfm)
-        events[k] = event
-        if event == 1 or event == 2:
-            failures += 1
-        work[k, 0] = fx
-        work[k, 1] = fy
-        work[k, 2] = xa
-        work[k, 3] = ya
-    return failures
-
-
 # below this many live contacts ``Model(threads=n)`` runs the serial kernels (same results):
-# thread start-up and the per-contact scratch cost more than a second core gives there (two
-# threads: 0.37x one at 6,020 contacts, 1.25x at 61,702; benchmarks/two_threads.py)
+# starting a parallel region costs more than a second core gives there
+# (benchmarks/two_threads.py)
 MIN_CONTACTS = 30_000
 
-# chunks of the first pass per thread (a chunk is one call, and a thread's unit of work), and
-# the fewest contacts in a chunk
-CHUNKS_PER_THREAD, MIN_CHUNK = 8, 256
+
+# parallel=True without a prange, as forces.add_contact_forces (numba's parallel pipeline
+# compiles the loop much faster than the plain one), and the same inlined contact_update and
+# the same scatter in the same kind of loop: the same machine arithmetic as the serial kernel.
+# (Inlining contact_update straight into the prange body instead gave different round-off in
+# numba 0.68: a shear displacement of 0 where the serial kernel had -3.5e-18 m.)
+@njit(cache=True, parallel=True)
+def chunk_forces(c, strength, s, rnd, dfm, par, edges, j):
+    """Chunk j (module docstring): its owned blocks' forces zeroed, then every contact of the
+    chunk updated (``forces.contact_update``), its force added to the owned blocks as the
+    serial kernel adds it, and stored in ``par.work`` when a block is shared; returns the
+    number of bond failures (their events and points kept in ``par.events``, ``par.work``)."""
+    f, pos, owner, work = s.force, s.pos, par.owner, par.work
+    for r in range(par.own_offsets[j], par.own_offsets[j + 1]):
+        i = par.own_blocks[r]
+        f[i, 0] = 0.0
+        f[i, 1] = 0.0
+        f[i, 2] = 0.0
+    failures = 0
+    for k in range(par.first[j], par.first[j + 1]):
+        fx, fy, xa, ya, event = contact_update(k, c, strength, s, rnd, dfm)
+        a = c.block_a[k]
+        b = c.block_b[k]
+        own_a, own_b = owner[a] == j, owner[b] == j
+        if event == 1 or event == 2:
+            par.events[k] = event
+            failures += 1
+        if not (own_a and own_b) or event == 1 or event == 2:
+            work[k, 0] = fx
+            work[k, 1] = fy
+            work[k, 2] = xa
+            work[k, 3] = ya
+        if own_b:
+            f[b, 0] += fx
+            f[b, 1] += fy
+            f[b, 2] += (xa - pos[b, 0]) * fy - (ya - pos[b, 1]) * fx
+        if own_a:
+            f[a, 0] -= fx
+            f[a, 1] -= fy
+            f[a, 2] -= (xa - pos[a, 0]) * fy - (ya - pos[a, 1]) * fx
+        p = c.partner[k] if edges else -1
+        if 0 <= p < k and (own_a or own_b):     # the edge's share (forces.edge_correction)
+            gx, gy, mb, ma = edge_correction(k, c, s, xa, ya)
+            if own_b:
+                f[b, 0] += gx
+                f[b, 1] += gy
+                f[b, 2] += mb
+            if own_a:
+                f[a, 0] -= gx
+                f[a, 1] -= gy
+                f[a, 2] -= ma
+    return failures
 
 
 @njit(cache=True, parallel=True)
 def add_contact_forces_parallel(c, strength, s, cracks, time, rnd, par, edges, dfm):
-    """Same inputs and effect as ``forces.add_contact_forces``, with the ``Parallel`` bundle."""
+    """Same inputs and effect as ``forces.add_contact_forces``, with the ``Parallel`` bundle
+    (which also zeroes the forces: the step leaves that to this kernel)."""
     work, events, failures = par.work, par.events, par.failures
-    nc = c.count[0]
-    chunk = par.chunk
-    for j in prange(-(-nc // chunk)):
-        failures[j] = contact_range(c, strength, s, rnd, dfm, work, events, j * chunk,
-                                    min(nc, (j + 1) * chunk))
-    for j in range(-(-nc // chunk)):         # the crack log, in contact order
+    chunks = par.first.shape[0] - 1
+    for j in prange(chunks):
+        failures[j] = chunk_forces(c, strength, s, rnd, dfm, par, edges, j)
+    for j in range(chunks):                      # the crack log, in contact order
         if failures[j] == 0:
             continue
-        for k in range(j * chunk, min(nc, (j + 1) * chunk)):
+        for k in range(par.first[j], par.first[j + 1]):
             event = events[k]
-            if event == 1 or event == 2:
+            if event != 0:
                 log_crack(cracks, time, work[k, 2], work[k, 3], event, c.block_a[k],
                           c.block_b[k], c.material[k])
-    f, pos = s.force, s.pos
-    nb = par.offsets.shape[0] - 1
-    for i in prange(nb):
-        f[i, 0] = 0.0                        # (the step leaves the zeroing to this pass)
+                events[k] = 0
+    _shared_forces(c, s, par, edges)
+
+
+@njit(cache=True, inline="always")
+def _shared_forces(c, s, par, edges):
+    """Each shared block's force: zeroed, then its contacts' forces from ``par.work`` added in
+    contact order (the serial kernel's order), with the edge elements' shares."""
+    f, pos, work = s.force, s.pos, par.work
+    for r in range(par.shared.shape[0]):
+        i = par.shared[r]
+        f[i, 0] = 0.0
         f[i, 1] = 0.0
         f[i, 2] = 0.0
-        for j in range(par.offsets[i], par.offsets[i + 1]):
+        for j in range(par.offsets[r], par.offsets[r + 1]):
             e = par.entries[j]
             k = e >> 1
             fx, fy, xa, ya = work[k, 0], work[k, 1], work[k, 2], work[k, 3]
