@@ -51,6 +51,15 @@ def test_continuum_factor_of_safety_falls_with_ucs(quick):
     assert fos[30.0] < fos[76.0]
 
 
+def test_the_window_stands_at_t_equal_to_c_before_t_is_lowered(quick):
+    """A back-analysis lowers T from c on a slope that holds at c: the quick window breaks
+    under a tenth of its bonds before the schedule, and the case adds no warning note (the
+    full variant's 1.3 m flaws break 35-57 % and get one: docs/cases/checkerboard.md)."""
+    for r in quick.methods["dem"]["back_analysis"]:
+        assert r["cracks_before_search"] < checkerboard.BROKEN_BEFORE * r["contacts"]
+    assert not [n for n in quick.notes if "before T was lowered" in n]
+
+
 def test_t_at_failure_rises_as_ucs_falls(quick):
     """Table 7.4's trend: the slope fails at a higher T when UCS (so c and friction) is lower
     than the weathered gneiss's own 76 MPa. Every UCS must fail inside the schedule (a T at
