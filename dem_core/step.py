@@ -134,7 +134,9 @@ def advance_range(s, p, integ, kick, i0, i1):
     pass before it moves, or -1; the last block that needs a search, or -1)."""
     dt, alpha, vel, omega = integ.dt, integ.damping, s.vel, s.omega
     search = -1
-    for i in range(i0, i1):
+    for n in range(i1 - i0):
+        b = i0 + n
+        i = np.uint64(b)       # unsigned: no negative-index wraparound on every access
         if not p.active[i]:
             continue
         fx = p.fixity[i]
@@ -153,7 +155,7 @@ def advance_range(s, p, integ, kick, i0, i1):
         v_max = 0.1 * p.radius[i] / dt
         if not (vel[i, 0] * vel[i, 0] + vel[i, 1] * vel[i, 1] <= v_max * v_max
                 and abs(omega[i]) * dt <= 0.1):             # also catches NaN
-            return i, search
+            return b, search
         s.pos[i, 0] += vel[i, 0] * dt
         s.pos[i, 1] += vel[i, 1] * dt
         s.theta[i] += omega[i] * dt
@@ -161,7 +163,7 @@ def advance_range(s, p, integ, kick, i0, i1):
         left = integ.half_margin - abs(s.theta[i] - s.theta_search[i]) * p.radius[i]
         dx, dy = s.pos[i, 0] - s.pos_search[i, 0], s.pos[i, 1] - s.pos_search[i, 1]
         if left < 0.0 or dx * dx + dy * dy > left * left:
-            search = i
+            search = b
     return -1, search
 
 
