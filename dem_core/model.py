@@ -8,8 +8,8 @@
 
 Everything the time step reads is a few bundles of flat arrays (``state.py``, ``contacts.py``,
 ``components/``); this class only resolves names (groups, materials), checks input, builds the
-component bundles the scene uses, and calls ``step.run_steps`` in chunks of steps (Python runs
-between chunks, never inside a step). See docs/architecture.md and docs/mechanics.md.
+component bundles the scene uses, and calls ``step.run_steps`` (threaded:
+``run_steps_threaded``) in chunks of steps (Python runs between chunks, never inside a step). See docs/architecture.md and docs/mechanics.md.
 """
 from __future__ import annotations
 
@@ -752,10 +752,16 @@ class Model:
     def _run(self, n):
         support.set_controls(self)
         self.zone_state.control[:] = (self.dt, self.damping, *self.gravity)
-        steps, self.time, status, bad = stepper.run_steps(
-            n, self.time, self._integrator(), self.state, self.props, self.contacts,
-            self.table.strength_array(), self.cracks, self.corners, self._parallel(),
-            *self._components(), self.zone_state)
+        par = self._parallel()
+        blocks = (self.state, self.props, self.contacts, self.table.strength_array(),
+                  self.cracks, self.corners)
+        parts = (*self._components(), self.zone_state)
+        if par.offsets.shape[0] == 0:
+            steps, self.time, status, bad = stepper.run_steps(
+                n, self.time, self._integrator(), *blocks, *parts)
+        else:
+            steps, self.time, status, bad = stepper.run_steps_threaded(
+                n, self.time, self._integrator(), *blocks, par, *parts)
         self.step += steps
         if status == stepper.UNSTABLE:
             raise ModelUnstable(self._diagnose(bad))

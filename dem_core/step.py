@@ -21,10 +21,10 @@ One step (``run_steps`` loops it inside numba, no Python in between)::
     x += v dt;  theta += omega dt;  rot = R(theta);  checks (stability, search needed)
     kinetic damping (every ``kinetic_interval`` steps; a stop also stops the zones)
 
-With threads (``Model(threads=n)``, a non-empty ``Parallel`` bundle) the contact forces run
-``parallel.add_contact_forces_parallel`` (which also zeroes f, block by block) and the damping
-and integration ``advance_parallel`` (from ``MIN_THREADED_BLOCKS`` blocks up): the same
-numbers for every block, bit for bit.
+With threads (``Model(threads=n)``, a non-empty ``Parallel`` bundle) ``run_steps_threaded``
+runs the same step with ``parallel.add_contact_forces_parallel`` (which also zeroes f, block
+by block) and the damping and integration ``advance_parallel`` (from ``MIN_THREADED_BLOCKS``
+blocks up): the same numbers for every block, bit for bit.
 
 Velocities live at half steps (t - dt/2, t + dt/2), positions at whole steps. With alpha = 0 the
 scheme is symplectic: energy oscillates by O((omega dt)^2) and does not drift.
@@ -56,52 +56,86 @@ from .forces import add_contact_forces
 from .kinematics import body_point, set_rotation
 from .parallel import add_contact_forces_parallel
 
-__all__ = ["run_steps", "frequency_bound", "free_kinetic_energy", "stop_free_motion",
+__all__ = ["run_steps", "run_steps_threaded", "frequency_bound", "free_kinetic_energy", "stop_free_motion",
            "advance", "advance_parallel", "DONE", "NEED_SEARCH", "UNSTABLE"]
 
 DONE, NEED_SEARCH, UNSTABLE = 0, 1, 2
 
 
 @njit(cache=True)
-def run_steps(nsteps, time, integ, s, p, c, strength, cracks, rnd, par, gravity, loads, water,
+def run_steps(nsteps, time, integ, s, p, c, strength, cracks, rnd, gravity, loads, water,
               cables, liners, servo, dfm):
-    """Advance up to ``nsteps`` steps; returns (steps done, time, status, block).
+    """Advance up to ``nsteps`` steps on one thread; returns (steps done, time, status, block).
 
     ``integ`` Integrator, ``s`` BlockState, ``p`` BlockProps, ``c`` Contacts, ``strength`` the
     material table's (nm, 7) rows, ``cracks`` CrackLog, ``rnd`` the corners' Rounding (empty:
-    sharp corners), ``par`` Parallel (empty: serial), then the component bundles (the last,
-    ``dfm``, the deformable blocks' zones, is also read by the contact kernels). Stops early
-    with status 1 (search needed, after completing the step) or 2 (unstable, before moving).
+    sharp corners), then the component bundles (the last, ``dfm``, the deformable blocks'
+    zones, is also read by the contact kernels). Stops early with status 1 (search needed,
+    after completing the step) or 2 (unstable, before moving).
     """
     for step in range(nsteps):
-        if par.offsets.shape[0] == 0:
-            s.force[:] = 0.0
-            add_contact_forces(c, strength, s, cracks, time, rnd, integ.edge_elements, dfm)
-        else:                              # (zeroes the forces in its per-block pass)
-            add_contact_forces_parallel(c, strength, s, cracks, time, rnd, par,
-                                        integ.edge_elements, dfm)
-        add_gravity(gravity, s, p)
-        add_loads(loads, s, p)
-        add_water(water, s, p)
-        add_cables(cables, s, p)
-        add_liners(liners, s, p)
-        servo_velocities(servo, s, p)
-        kick = 0.5 * integ.dt if integ.kinetic[2] != 0.0 else integ.dt
-        add_deformable(dfm, c, s, p, kick)
-        integ.kinetic[2] = 0.0
-        if par.offsets.shape[0] == 0 or s.pos.shape[0] < MIN_THREADED_BLOCKS:
+        s.force[:] = 0.0
+        add_contact_forces(c, strength, s, cracks, time, rnd, integ.edge_elements, dfm)
+        kick = add_other_forces(integ, s, p, c, gravity, loads, water, cables, liners, servo,
+                                dfm)
+        status, bad = advance(s, p, integ, kick)
+        if status == UNSTABLE:
+            return step, time, UNSTABLE, bad
+        time += integ.dt
+        end_step(integ, s, p, dfm)
+        if status == NEED_SEARCH:
+            return step + 1, time, NEED_SEARCH, bad
+    return nsteps, time, DONE, -1
+
+
+# A function of its own, not a branch of ``run_steps``: a serial model then never compiles the
+# threaded kernels (about 80 s of numba's first compile, docs/performance.md).
+@njit(cache=True)
+def run_steps_threaded(nsteps, time, integ, s, p, c, strength, cracks, rnd, par, gravity,
+                       loads, water, cables, liners, servo, dfm):
+    """``run_steps`` on the threads: ``par`` the Parallel bundle (chunks and scratch); the
+    same numbers, bit for bit."""
+    for step in range(nsteps):
+        add_contact_forces_parallel(c, strength, s, cracks, time, rnd, par,  # (zeroes f)
+                                    integ.edge_elements, dfm)
+        kick = add_other_forces(integ, s, p, c, gravity, loads, water, cables, liners, servo,
+                                dfm)
+        if s.pos.shape[0] < MIN_THREADED_BLOCKS:
             status, bad = advance(s, p, integ, kick)
         else:
             status, bad = advance_parallel(s, p, integ, kick)
         if status == UNSTABLE:
             return step, time, UNSTABLE, bad
         time += integ.dt
-        kinetic_damping(integ, s, p, dfm)
-        if integ.kinetic[2] != 0.0:        # the motion was just stopped: the zones' too
-            dfm.v[:] = 0.0
+        end_step(integ, s, p, dfm)
         if status == NEED_SEARCH:
             return step + 1, time, NEED_SEARCH, bad
     return nsteps, time, DONE, -1
+
+
+@njit(cache=True)
+def add_other_forces(integ, s, p, c, gravity, loads, water, cables, liners, servo, dfm):
+    """Every force but the contacts', the servos, and the deformable blocks' zones (which move
+    here); returns the time of this step's velocity kick (s): ``dt``, or ``dt / 2`` on the
+    first step after a kinetic-damping stop."""
+    add_gravity(gravity, s, p)
+    add_loads(loads, s, p)
+    add_water(water, s, p)
+    add_cables(cables, s, p)
+    add_liners(liners, s, p)
+    servo_velocities(servo, s, p)
+    kick = 0.5 * integ.dt if integ.kinetic[2] != 0.0 else integ.dt
+    add_deformable(dfm, c, s, p, kick)
+    integ.kinetic[2] = 0.0
+    return kick
+
+
+@njit(cache=True)
+def end_step(integ, s, p, dfm):
+    """Kinetic damping after the blocks moved (a stop also stops the zones)."""
+    kinetic_damping(integ, s, p, dfm)
+    if integ.kinetic[2] != 0.0:
+        dfm.v[:] = 0.0
 
 
 @njit(cache=True)
