@@ -9,7 +9,8 @@
 Everything the time step reads is a few bundles of flat arrays (``state.py``, ``contacts.py``,
 ``components/``); this class only resolves names (groups, materials), checks input, builds the
 component bundles the scene uses, and calls ``step.run_steps`` (threaded:
-``run_steps_threaded``) in chunks of steps (Python runs between chunks, never inside a step). See docs/architecture.md and docs/mechanics.md.
+``run_steps_threaded``) in chunks of steps (Python runs between chunks, never inside a step).
+See docs/architecture.md and docs/mechanics.md.
 """
 from __future__ import annotations
 
