@@ -57,7 +57,15 @@ def main(argv=None):
     out.mkdir(exist_ok=True)
     (out / "fewer_steps.json").write_text(json.dumps(
         {"machine": f"{platform.machine()} {platform.platform()}", "workers": a.workers,
-         "rows": rows, "pairs": pairs}, indent=2))
+         "rows": rows, "pairs": pairs, **totals(rows)}, indent=2))
+
+
+def totals(rows) -> dict:
+    """Steps and seconds with settling over those without, summed over every edge."""
+    def total(key, settle):
+        return sum(r[key] for r in rows if r["settle"] == settle)
+    return {f"{key}_ratio_all": round(total(key, True) / total(key, False), 3)
+            for key in ("steps", "seconds")}
 
 
 if __name__ == "__main__":
