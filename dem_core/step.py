@@ -89,7 +89,7 @@ def run_steps(nsteps, time, integ, s, p, c, strength, cracks, rnd, gravity, load
 
 
 # A function of its own, not a branch of ``run_steps``: a serial model then never compiles the
-# threaded kernels (about 80 s of numba's first compile, docs/performance.md).
+# threaded kernels (150 s of numba's first compile of a small model, docs/performance.md).
 @njit(cache=True)
 def run_steps_threaded(nsteps, time, integ, s, p, c, strength, cracks, rnd, par, gravity,
                        loads, water, cables, liners, servo, dfm):
