@@ -7,7 +7,7 @@ The Adhikary base run (flaw T = 1.1 MPa, the full variant's ramp: 10 g levels, t
 bisected and closed in 1 g steps; ``benchmarks/centrifuge_resolution.member``) at each block
 edge, once as today (every level that neither fails nor reaches the force ratio runs to its
 step limit) and once with ``settle`` (a level stops as "settled" once it has hardly moved and
-not cracked over two windows of a fifth of the step limit: ``dem_core.monitor.settled``).
+not cracked over two windows of a tenth of the step limit: ``dem_core.monitor.settled``).
 Reports per run the failure g, the last stable g, steps, seconds and the levels' verdicts, and
 per edge the ratio of steps and of seconds (settle / today) and the change of failure g.
 Steps do not depend on the machine; seconds do (the machine is named in the JSON).
