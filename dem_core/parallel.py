@@ -210,7 +210,11 @@ def add_contact_forces_parallel(c, strength, s, cracks, time, rnd, par, edges, d
     (which also zeroes the forces: the step leaves that to this kernel)."""
     work, events, failures = par.work, par.events, par.failures
     chunks = par.first.shape[0] - 1
-    for j in prange(chunks):
+    for jp in prange(chunks):
+        # numba types a prange index int64 when it types this function and uint64 when it
+        # builds the threads' function, and so compiled chunk_forces twice (80 s of a cold
+        # start each); the cast leaves one signature
+        j = np.int64(jp)
         failures[j] = chunk_forces(c, strength, s, rnd, dfm, par, edges, j)
     for j in range(chunks):                      # the crack log, in contact order
         if failures[j] == 0:

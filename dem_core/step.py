@@ -219,7 +219,8 @@ def advance_parallel(s, p, integ, kick):
     nb = s.pos.shape[0]
     chunk = max(MIN_ADVANCE_CHUNK, -(-nb // ADVANCE_CHUNKS))
     first_unstable, last_search = nb, -1
-    for j in prange(-(-nb // chunk)):
+    for jp in prange(-(-nb // chunk)):
+        j = np.int64(jp)                # (parallel.add_contact_forces_parallel: why)
         u, n = advance_range(s, p, integ, kick, j * chunk, min(nb, (j + 1) * chunk))
         if u >= 0:
             first_unstable = min(first_unstable, u)

@@ -6,7 +6,7 @@ Bands (derived, not fitted): the thesis's slope stood under gravity at T = 60 kP
 the schedule until it collapsed at 10 kPa; with this variant's schedule (20 kPa steps, then
 10 kPa) the thesis's finding reads "stands at 40 and 20 kPa, first fails at 10 or 0 kPa". The
 toppled zone "in the order of 15 m" is read as 10-20 m (one third either way), its start "at
-the toe" as the fastest block after the failure in the lowest third of the face.
+the toe" as a failed mass that reaches into the lowest third of the face.
 """
 import pytest
 
@@ -59,11 +59,12 @@ def test_toppled_zone_about_15_m_thick_inside_the_zone(quick):
     assert 10.0 <= top["thickness_m"] <= 20.0
 
 
-def test_failure_starts_at_the_toe(quick):
-    """The block that moves fastest after the failure lies in the lowest third of the face
-    (the thesis: toppling starts at the toe). Measured 0.17 H at this resolution; the full
-    variant's 1.0 m cells put it at 0.77 H (docs/cases/underdip.md): not a robust finding."""
-    assert quick.methods["dem"]["toppled"]["start_height_fraction"] <= 1.0 / 3.0
+def test_failed_mass_reaches_down_to_the_toe(quick):
+    """The mass that fails under the cohesion schedule reaches down into the lowest third of
+    the face (the thesis: toppling starts at the toe). Measured 0.11-0.14 H, also with the
+    density changed by 1 ULP. Where the *fastest* block lies is not asserted: it is chaotic
+    (0.38 H, and 0.78 H with the density 1 ULP higher; docs/cases/underdip.md)."""
+    assert quick.methods["dem"]["toppled"]["lowest_height_fraction"] <= 1.0 / 3.0
 
 
 def test_continuum_intact_mass_stands_at_T_0(quick):
