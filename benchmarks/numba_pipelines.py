@@ -2,7 +2,8 @@
 
     .venv/bin/python benchmarks/numba_pipelines.py [--blocks 10000] [--calls 200]
 
-``dem_core.forces.add_contact_forces`` is compiled with ``parallel=True`` (and no ``prange``)
+The contact loop (``dem_core.forces.chunk_forces``, the serial kernel when called with
+``j = -1``) is compiled with ``parallel=True`` (and no ``prange``)
 because the same source through numba's plain pipeline runs many times slower
 (docs/performance.md). This benchmark recompiles the kernel's Python source both ways
 (``njit`` and ``njit(parallel=True)``, no cache) and a third way: the plain pipeline with one
@@ -87,6 +88,7 @@ def main():
     from dem_core import forces
     from dem_core.materials import Material
     from dem_core.model import Model
+    from dem_core.state import no_parallel
 
     flaw = Material(kn=40e9, ks=20e9, tensile_strength=1.1e6, cohesion=1.2e6, friction=37)
     m = Model(throughput.specimen(a.blocks), {"flaw:*": flaw, "boundary:*": flaw},
@@ -94,9 +96,10 @@ def main():
     m.fix("base")
     m.set_gravity(50.0)
     m.cycle(20)
-    args = (m.contacts, m.table.strength_array(), m.state, m.cracks, m.time, m.corners, False,
-            m.zone_state)
-    source = forces.add_contact_forces.py_func
+    # the serial kernel: chunk_forces with j = -1 and the empty Parallel bundle
+    args = (m.contacts, m.table.strength_array(), m.state, m.corners, m.zone_state,
+            no_parallel(), False, -1, m.cracks, m.time)
+    source = forces.chunk_forces.py_func
     out = {"benchmark": "numba_pipelines", "machine": f"{platform.node()} {platform.machine()} {platform.platform()}",
            "blocks": m.n_blocks, "contacts": int(m.contacts.n)}
     with warnings.catch_warnings():

@@ -27,49 +27,14 @@ contacts are updated.
 """
 from __future__ import annotations
 
-from typing import NamedTuple
-
 import numpy as np
 from numba import njit, prange
 
-from .forces import contact_update, edge_correction, log_crack
+from .forces import chunk_forces, edge_correction, log_crack
+from .state import Parallel, no_parallel
 
 __all__ = ["Parallel", "contact_table", "add_contact_forces_parallel", "no_parallel",
            "parallel_bundle", "chunk_owners"]
-
-
-class Parallel(NamedTuple):
-    """The threaded kernel's chunks, owners, scratch and shared-block table; all empty: serial.
-
-    first : (chunks + 1,) int64. Chunk j is the contacts first[j] <= k < first[j + 1].
-    owner : (nb,) int64. The chunk that holds all of block i's contacts, or -1 (shared).
-    own_offsets : (chunks + 1,) int64, own_blocks : int64. The blocks each chunk owns.
-    shared : (ns,) int64. The shared blocks (contacts in several chunks, or none).
-    offsets : (ns + 1,) int64, entries : int64. The contacts of each shared block in contact
-        order; an entry is 2 k for block A of contact k (force subtracted), 2 k + 1 for B.
-    work : (nc, 4) float64. Force on B (N/m) and point (m) of contact k, written when k
-        touches a shared block or fails.
-    events : (nc,) int8. The failure event (1 tension, 2 shear) of contact k this step, set by
-        the chunk, read and cleared by the crack-log pass; 0 otherwise.
-    failures : (chunks,) int64. Each chunk's bond failures this step.
-    """
-
-    first: np.ndarray
-    owner: np.ndarray
-    own_offsets: np.ndarray
-    own_blocks: np.ndarray
-    shared: np.ndarray
-    offsets: np.ndarray
-    entries: np.ndarray
-    work: np.ndarray
-    events: np.ndarray
-    failures: np.ndarray
-
-
-def no_parallel() -> Parallel:
-    """The empty bundle: the step runs the serial kernel."""
-    e = np.zeros(0, np.int64)
-    return Parallel(e, e, e, e, e, e, e, np.zeros((0, 4)), np.zeros(0, np.int8), e)
 
 
 def parallel_bundle(c, nb, threads) -> Parallel:
@@ -144,66 +109,6 @@ def contact_table(nc, block_a, block_b, nb, blocks):
 MIN_CONTACTS = 30_000
 
 
-# parallel=True without a prange, as forces.add_contact_forces (numba's parallel pipeline
-# compiles the loop much faster than the plain one), and the same inlined contact_update and
-# the same scatter in the same kind of loop: the same machine arithmetic as the serial kernel.
-# (Inlining contact_update straight into the prange body instead gave different round-off in
-# numba 0.68: a shear displacement of 0 where the serial kernel had -3.5e-18 m.)
-@njit(cache=True, parallel=True)
-def chunk_forces(c, strength, s, rnd, dfm, par, edges, j):
-    """Chunk j (module docstring): its owned blocks' forces zeroed, then every contact of the
-    chunk updated (``forces.contact_update``), its force added to the owned blocks as the
-    serial kernel adds it, and stored in ``par.work`` when a block is shared; returns the
-    number of bond failures (their events and points kept in ``par.events``, ``par.work``)."""
-    f, pos, owner, work = s.force, s.pos, par.owner, par.work
-    for r in range(par.own_offsets[j], par.own_offsets[j + 1]):
-        i = par.own_blocks[r]
-        f[i, 0] = 0.0
-        f[i, 1] = 0.0
-        f[i, 2] = 0.0
-    failures = 0
-    k0 = par.first[j]
-    # range from 0: numba then knows k >= 0 and drops the negative-index wraparound of every
-    # array access (a loop over range(k0, k1) ran 20 % slower than the serial kernel's
-    # range(n)); the skipped part costs a compare each. (An unsigned index does it too, but
-    # compiles every helper again for it: 75 s more of numba's cold start.)
-    for k in range(par.first[j + 1]):
-        if k < k0:
-            continue
-        fx, fy, xa, ya, event = contact_update(k, c, strength, s, rnd, dfm)
-        a = c.block_a[k]
-        b = c.block_b[k]
-        own_a, own_b = owner[a] == j, owner[b] == j
-        if event == 1 or event == 2:
-            par.events[k] = event
-            failures += 1
-        if not (own_a and own_b) or event == 1 or event == 2:
-            work[k, 0] = fx
-            work[k, 1] = fy
-            work[k, 2] = xa
-            work[k, 3] = ya
-        if own_b:
-            f[b, 0] += fx
-            f[b, 1] += fy
-            f[b, 2] += (xa - pos[b, 0]) * fy - (ya - pos[b, 1]) * fx
-        if own_a:
-            f[a, 0] -= fx
-            f[a, 1] -= fy
-            f[a, 2] -= (xa - pos[a, 0]) * fy - (ya - pos[a, 1]) * fx
-        p = c.partner[k] if edges else -1
-        if 0 <= p < k and (own_a or own_b):     # the edge's share (forces.edge_correction)
-            gx, gy, mb, ma = edge_correction(k, c, s, xa, ya)
-            if own_b:
-                f[b, 0] += gx
-                f[b, 1] += gy
-                f[b, 2] += mb
-            if own_a:
-                f[a, 0] -= gx
-                f[a, 1] -= gy
-                f[a, 2] -= ma
-    return failures
-
-
 @njit(cache=True, parallel=True)
 def add_contact_forces_parallel(c, strength, s, cracks, time, rnd, par, edges, dfm):
     """Same inputs and effect as ``forces.add_contact_forces``, with the ``Parallel`` bundle
@@ -215,7 +120,7 @@ def add_contact_forces_parallel(c, strength, s, cracks, time, rnd, par, edges, d
         # builds the threads' function, and so compiled chunk_forces twice (80 s of a cold
         # start each); the cast leaves one signature
         j = np.int64(jp)
-        failures[j] = chunk_forces(c, strength, s, rnd, dfm, par, edges, j)
+        failures[j] = chunk_forces(c, strength, s, rnd, dfm, par, edges, j, cracks, time)
     for j in range(chunks):                      # the crack log, in contact order
         if failures[j] == 0:
             continue

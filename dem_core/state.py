@@ -10,6 +10,7 @@ strain): masses kg/m, moments of inertia kg m^2/m, forces N/m, moments N m/m. An
 - ``contacts.Contacts``: the contact arrays with their stresses (``contacts.py``).
 - ``CrackLog``: every bond failure so far.
 - ``Integrator``: time step, damping and the kinetic-damping memory.
+- ``Parallel``: the threaded contact kernel's chunks and scratch (``parallel.py``); empty: serial.
 - one bundle per optional force component (``components/``), empty when the scene has none.
 """
 from __future__ import annotations
@@ -22,7 +23,8 @@ import numpy as np
 from .kinematics import update_rotation
 
 __all__ = ["BlockProps", "BlockState", "CrackLog", "Integrator", "FIX_X", "FIX_Y", "FIX_ROT",
-           "polygon_inertia", "block_props", "state_at_rest", "copy_bundle"]
+           "polygon_inertia", "block_props", "state_at_rest", "copy_bundle", "Parallel",
+           "no_parallel"]
 
 # Bits of BlockProps.fixity: a set bit means that velocity component is prescribed.
 FIX_X, FIX_Y, FIX_ROT = 1, 2, 4
@@ -171,3 +173,37 @@ def state_at_rest(centroid) -> BlockState:
 def copy_bundle(bundle):
     """A deep copy of a bundle (every array copied)."""
     return type(bundle)(*[copy.deepcopy(v) for v in bundle])
+
+
+class Parallel(NamedTuple):
+    """The threaded kernel's chunks, owners, scratch and shared-block table; all empty: serial.
+
+    first : (chunks + 1,) int64. Chunk j is the contacts first[j] <= k < first[j + 1].
+    owner : (nb,) int64. The chunk that holds all of block i's contacts, or -1 (shared).
+    own_offsets : (chunks + 1,) int64, own_blocks : int64. The blocks each chunk owns.
+    shared : (ns,) int64. The shared blocks (contacts in several chunks, or none).
+    offsets : (ns + 1,) int64, entries : int64. The contacts of each shared block in contact
+        order; an entry is 2 k for block A of contact k (force subtracted), 2 k + 1 for B.
+    work : (nc, 4) float64. Force on B (N/m) and point (m) of contact k, written when k
+        touches a shared block or fails.
+    events : (nc,) int8. The failure event (1 tension, 2 shear) of contact k this step, set by
+        the chunk, read and cleared by the crack-log pass; 0 otherwise.
+    failures : (chunks,) int64. Each chunk's bond failures this step.
+    """
+
+    first: np.ndarray
+    owner: np.ndarray
+    own_offsets: np.ndarray
+    own_blocks: np.ndarray
+    shared: np.ndarray
+    offsets: np.ndarray
+    entries: np.ndarray
+    work: np.ndarray
+    events: np.ndarray
+    failures: np.ndarray
+
+
+def no_parallel() -> Parallel:
+    """The empty bundle: the serial kernel (``forces.add_contact_forces``)."""
+    e = np.zeros(0, np.int64)
+    return Parallel(e, e, e, e, e, e, e, np.zeros((0, 4)), np.zeros(0, np.int8), e)
