@@ -295,4 +295,6 @@ def add_contact_forces(c, strength, s, cracks, time, rnd, edges, dfm):
     ``j = -1`` and an empty Parallel bundle: the threaded kernel's loop, compiled once.)"""
     e = np.zeros(0, np.int64)
     par = Parallel(e, e, e, e, e, e, e, np.zeros((0, 4)), np.zeros(0, np.int8), e)
-    chunk_forces(c, strength, s, rnd, dfm, par, edges, -1, cracks, time)
+    # np.int64(-1), not -1: a literal argument is a signature of its own (Literal[int](-1)),
+    # and the law would be compiled again for the threaded kernel's int64 chunk index
+    chunk_forces(c, strength, s, rnd, dfm, par, edges, np.int64(-1), cracks, time)
