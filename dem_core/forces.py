@@ -33,7 +33,7 @@ from .contacts import ANCHOR_A, ANCHOR_B
 from .kinematics import body_point, contact_normal, unrotate
 from .law import coulomb_law
 from .rounding import is_rounded, rounded_contact
-from .state import Parallel
+from .state import no_parallel
 
 __all__ = ["add_contact_forces", "chunk_forces", "contact_update", "log_crack",
            "edge_correction"]
@@ -293,8 +293,6 @@ def add_contact_forces(c, strength, s, cracks, time, rnd, edges, dfm):
     empty: sharp). ``edges``: the edge elements (module docstring). ``dfm``: the deformable
     blocks' zones (``components.deformable``; empty: rigid blocks). (``chunk_forces`` with
     ``j = -1`` and an empty Parallel bundle: the threaded kernel's loop, compiled once.)"""
-    e = np.zeros(0, np.int64)
-    par = Parallel(e, e, e, e, e, e, e, np.zeros((0, 4)), np.zeros(0, np.int8), e)
     # np.int64(-1), not -1: a literal argument is a signature of its own (Literal[int](-1)),
     # and the law would be compiled again for the threaded kernel's int64 chunk index
-    chunk_forces(c, strength, s, rnd, dfm, par, edges, np.int64(-1), cracks, time)
+    chunk_forces(c, strength, s, rnd, dfm, no_parallel(), edges, np.int64(-1), cracks, time)

@@ -19,6 +19,7 @@ import copy
 from typing import NamedTuple
 
 import numpy as np
+from numba import njit
 
 from .kinematics import update_rotation
 
@@ -203,7 +204,9 @@ class Parallel(NamedTuple):
     failures: np.ndarray
 
 
+@njit(cache=True)
 def no_parallel() -> Parallel:
-    """The empty bundle: the serial kernel (``forces.add_contact_forces``)."""
+    """The empty bundle: the serial kernel (``forces.add_contact_forces``, which also builds it
+    inside numba)."""
     e = np.zeros(0, np.int64)
     return Parallel(e, e, e, e, e, e, e, np.zeros((0, 4)), np.zeros(0, np.int8), e)
