@@ -27,6 +27,7 @@ from .components import deformable as zone_kernels
 from .components import deformable_bc as zone_bc
 from .contacts import initial_contacts, split_edges, surface_materials
 from .elastic import series_stiffness
+from .jit_cache import compiled
 from .materials import Material, material_table
 from . import parallel
 from .parallel import no_parallel, parallel_bundle
@@ -758,11 +759,11 @@ class Model:
                   self.cracks, self.corners)
         parts = (*self._components(), self.zone_state)
         if par.offsets.shape[0] == 0:
-            steps, self.time, status, bad = stepper.run_steps(
-                n, self.time, self._integrator(), *blocks, *parts)
+            kernel, args = stepper.run_steps, (n, self.time, self._integrator(), *blocks, *parts)
         else:
-            steps, self.time, status, bad = stepper.run_steps_threaded(
-                n, self.time, self._integrator(), *blocks, par, *parts)
+            kernel = stepper.run_steps_threaded
+            args = (n, self.time, self._integrator(), *blocks, par, *parts)
+        steps, self.time, status, bad = compiled(kernel, args)(*args)
         self.step += steps
         if status == stepper.UNSTABLE:
             raise ModelUnstable(self._diagnose(bad))

@@ -1,7 +1,8 @@
 """Test-suite settings: hypothesis runs derandomized (the same examples every run), so a
 result does not depend on which random examples CI happened to draw; set
 HYPOTHESIS_PROFILE=explore to search with fresh random examples; every test's open
-matplotlib figures are closed after it."""
+matplotlib figures are closed after it; the test files are ordered for pytest-xdist
+(``pytest_collection_modifyitems``)."""
 import os
 
 import pytest
@@ -21,3 +22,41 @@ def _close_figures():
     import sys
     if "matplotlib.pyplot" in sys.modules:
         sys.modules["matplotlib.pyplot"].close("all")
+
+
+# pytest-xdist (./dev test: --dist loadfile --no-loadscope-reorder) hands whole files to its
+# workers in collection order, the next file to whichever worker runs short. First a file that
+# steps a model: its worker compiles the step (about two minutes from a clean clone). Then
+# files that never step one, in this process or a child: the other worker runs them meanwhile
+# and then loads the step from numba's cache instead of compiling it as well
+# (``dem_core.jit_cache`` makes it wait for the cache if it gets there first). Then the
+# longest files (seconds on the 2-core VM, 2026-11-26, with two workers), so that the two
+# workers finish together; the rest in their usual order.
+COMPILES_THE_STEP = ["test_bad_input.py"]
+NEVER_STEPS = ["test_continuum_ssr.py",                # 78 s
+               "test_continuum_robustness.py",         # 17
+               "test_continuum_model.py",              # 9
+               "test_geometry_blocks.py",              # 5
+               "test_continuum_return_mapping.py",
+               "test_geometry_joints.py",
+               "test_continuum_staged.py",
+               "test_continuum_hoek_brown.py"]
+LONGEST = ["test_common_toppling_quick.py",            # 144 s
+           "test_adhikary_quick.py",                   # 120
+           "test_lajtai_case.py",                      # 105
+           "test_examples.py",                         # 65
+           "test_lornex_quick.py",                     # 65
+           "test_longtan_quick.py",                    # 64
+           "test_checkerboard_quick.py",               # 54
+           "test_lajtai_deformable.py",                # 43
+           "test_deformable.py",                       # 40 (compiles the threaded step)
+           "test_support.py",                          # 30
+           "test_underdip_quick.py",                   # 26
+           "test_voronoi_beam.py",                     # 25
+           "test_zones_plastic.py"]                    # 19
+_ORDER = {name: i for i, name in enumerate(COMPILES_THE_STEP + NEVER_STEPS + LONGEST)}
+
+
+def pytest_collection_modifyitems(config, items):
+    """Files in the order above (a stable sort: each file's tests keep their order)."""
+    items.sort(key=lambda item: _ORDER.get(item.path.name, len(_ORDER)))

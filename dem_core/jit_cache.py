@@ -1,0 +1,47 @@
+"""One process at a time compiles a kernel; the others load what it wrote to numba's cache.
+
+numba compiles a ``cache=True`` kernel the first time a process calls it with new argument
+types, or loads it from the cache that an earlier process wrote (the step: about two minutes
+to compile from a clean clone, a tenth of a second to load). Processes that start together,
+each with an empty cache (a sweep's members, pytest-xdist's workers), would each compile it.
+``compiled`` compiles (or loads) a kernel for the types of its arguments under a file lock,
+so the first process compiles and the others wait for it and load its cache entry.
+"""
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import os
+import tempfile
+from pathlib import Path
+
+__all__ = ["compiled"]
+
+
+def compiled(kernel, args):
+    """``kernel`` (a numba dispatcher) with an entry for the types of ``args``, compiled or
+    loaded from the cache under the lock (``lock``) if this process has none yet."""
+    types = tuple(kernel.typeof_pyval(a) for a in args)
+    if types not in kernel.overloads:
+        with lock():
+            kernel.compile(types)
+    return kernel
+
+
+@contextlib.contextmanager
+def lock():
+    """An exclusive lock on a file in the temporary folder, one per copy of ``dem_core`` (none
+    where ``fcntl`` is missing: there each process compiles for itself)."""
+    try:
+        import fcntl
+    except ImportError:
+        yield
+        return
+    here = str(Path(__file__).resolve().parent).encode()
+    path = Path(tempfile.gettempdir()) / f"dem_core-jit-{hashlib.sha1(here).hexdigest()[:12]}.lock"
+    fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o666)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(fd)                    # (closing releases the lock)
