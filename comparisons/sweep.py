@@ -2,7 +2,11 @@
 
 - Launched under MPI (``mpirun -n N python -m mpi4py.futures -m comparisons run ...``): members
   go to mpi4py's ``MPIPoolExecutor`` workers, so a sweep spreads over the nodes of a cluster.
-- Otherwise, with ``workers > 1``: a local process pool; with ``workers == 1``: serially.
+- Otherwise, with ``workers > 1``: a local process pool; with ``workers == 1``: serially. The
+  pool has at most ``local_workers()`` processes: the cores this process may use, or
+  ``COMPARISONS_WORKERS`` where that is set (e.g. 1 on a machine shared with other jobs, or in
+  each of pytest-xdist's workers, ``tests/conftest.py``), so a sweep never runs more members
+  side by side than there are cores for them.
 
 Each member is a pure function of its parameters (seeds included), so the results are the same
 whichever way they ran, and they come back in the order of ``params``.
@@ -38,6 +42,18 @@ def launched_under_mpi() -> bool:
         if int(os.environ.get(var, "1")) > 1:
             return True
     return False
+
+
+def local_workers() -> int:
+    """The most members a local pool runs side by side: ``COMPARISONS_WORKERS`` if set (a whole
+    number >= 1, ValueError naming it otherwise), else the cores this process may use."""
+    value = os.environ.get("COMPARISONS_WORKERS")
+    if value is None:
+        return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (
+            os.cpu_count() or 1)
+    if not value.strip().isdigit() or int(value) < 1:
+        raise ValueError(f"COMPARISONS_WORKERS must be a whole number >= 1, got {value!r}")
+    return int(value)
 
 
 def run_sweep(function: Callable, params: Sequence, workers: int = 1, progress=None) -> list:
@@ -100,6 +116,7 @@ def _execute(function, params, todo, workers, done, who, board):
         with MPIPoolExecutor() as pool:
             return _pooled(pool, function, params, todo, done, "MPI", who,
                            "lines" if board is not None else None)
+    workers = min(workers, local_workers())
     if workers > 1 and len(todo) > 1:
         with _reports_from_pool(board) as queue:
             with ProcessPoolExecutor(max_workers=workers, initializer=_progress.worker_init,

@@ -15,7 +15,7 @@ import os
 import tempfile
 from pathlib import Path
 
-__all__ = ["compiled"]
+__all__ = ["compiled", "lock", "lock_path"]
 
 
 def compiled(kernel, args):
@@ -37,11 +37,15 @@ def lock():
     except ImportError:
         yield
         return
-    here = str(Path(__file__).resolve().parent).encode()
-    path = Path(tempfile.gettempdir()) / f"dem_core-jit-{hashlib.sha1(here).hexdigest()[:12]}.lock"
-    fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o666)
+    fd = os.open(lock_path(), os.O_RDWR | os.O_CREAT, 0o666)
     try:
         fcntl.flock(fd, fcntl.LOCK_EX)
         yield
     finally:
         os.close(fd)                    # (closing releases the lock)
+
+
+def lock_path() -> Path:
+    """The lock's file: named by this copy of ``dem_core``'s folder (its own numba cache)."""
+    here = str(Path(__file__).resolve().parent).encode()
+    return Path(tempfile.gettempdir()) / f"dem_core-jit-{hashlib.sha1(here).hexdigest()[:12]}.lock"

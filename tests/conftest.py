@@ -32,7 +32,7 @@ def _close_figures():
 # (``dem_core.jit_cache`` makes it wait for the cache if it gets there first). Then the
 # longest files (seconds on the 2-core VM, 2026-11-26, with two workers), so that the two
 # workers finish together; the rest in their usual order.
-COMPILES_THE_STEP = ["test_bad_input.py"]
+COMPILES_THE_STEP = ["test_mech_closed_forms.py"]        # steps at its first test
 NEVER_STEPS = ["test_continuum_ssr.py",                # 78 s
                "test_continuum_robustness.py",         # 17
                "test_continuum_model.py",              # 9
@@ -55,6 +55,16 @@ LONGEST = ["test_common_toppling_quick.py",            # 144 s
            "test_voronoi_beam.py",                     # 25
            "test_zones_plastic.py"]                    # 19
 _ORDER = {name: i for i, name in enumerate(COMPILES_THE_STEP + NEVER_STEPS + LONGEST)}
+
+
+def pytest_configure(config):
+    """In each pytest-xdist worker, sweeps get the worker's share of the cores
+    (``COMPARISONS_WORKERS``, ``comparisons.sweep.local_workers``): two workers each running a
+    two-process sweep on two cores time-share them."""
+    workers = int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "0"))
+    if workers > 1 and "COMPARISONS_WORKERS" not in os.environ:
+        cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+        os.environ["COMPARISONS_WORKERS"] = str(max(1, cores // workers))
 
 
 def pytest_collection_modifyitems(config, items):

@@ -1,4 +1,4 @@
-"""A tiny sweep member for tests/test_sweep_mpi.py (importable by MPI worker processes): how far
+"""Tiny sweep members for tests/test_sweep_mpi.py (importable by MPI worker processes): how far
 a block slides down a 30 degree plane in 1,500 steps, for a given friction angle."""
 import math
 
@@ -16,6 +16,13 @@ def slide(friction: float) -> float:
     m.set_gravity(1.0, direction=(math.sin(th), -math.cos(th)))
     m.cycle(1500)
     return float(m.displacement()[1, 0])
+
+
+def _pid(_member) -> int:
+    """The process a member ran in (tests/test_sweep_workers.py)."""
+    import os
+
+    return os.getpid()
 
 
 if __name__ == "__main__":             # run under mpirun by the test: prints the sweep as JSON

@@ -49,7 +49,8 @@ def members():
 
 
 @pytest.mark.parametrize("workers", [1, 2])
-def test_a_sweep_in_a_log_reports_level_steps_elapsed_and_estimate(workers):
+def test_a_sweep_in_a_log_reports_level_steps_elapsed_and_estimate(workers, monkeypatch):
+    monkeypatch.setenv("COMPARISONS_WORKERS", "2")     # a pool even in a pytest-xdist worker
     out = io.StringIO()
     progress = Progress("tiny", stream=out, live=False)
     runs = run_sweep(tiny_ramp, members(), workers=workers, progress=progress)

@@ -52,7 +52,9 @@ def same(a, b) -> bool:
 
 
 @pytest.mark.parametrize("workers", [1, 2])
-def test_an_interrupted_sweep_resumes_with_the_uninterrupted_results(tmp_path, workers):
+def test_an_interrupted_sweep_resumes_with_the_uninterrupted_results(tmp_path, workers,
+                                                                     monkeypatch):
+    monkeypatch.setenv("COMPARISONS_WORKERS", "2")     # a pool even in a pytest-xdist worker
     (tmp_path / "calls").mkdir()
     flag = tmp_path / "fail-2"
     params = [{"x": x, "calls": str(tmp_path / "calls"),

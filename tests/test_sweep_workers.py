@@ -1,0 +1,30 @@
+"""A local sweep runs at most ``comparisons.sweep.local_workers()`` members side by side: the
+cores this process may use, or ``COMPARISONS_WORKERS``."""
+import os
+
+import pytest
+
+from comparisons.sweep import local_workers, run_sweep
+from sweep_members import _pid
+
+
+def test_comparisons_workers_caps_the_pool(monkeypatch):
+    monkeypatch.setenv("COMPARISONS_WORKERS", "1")
+    lines = []
+    assert run_sweep(_pid, [1, 2, 3], workers=2, progress=lines.append) == [os.getpid()] * 3
+    assert all(line.endswith("(serial)") for line in lines) and len(lines) == 3
+    monkeypatch.setenv("COMPARISONS_WORKERS", "2")
+    pids = run_sweep(_pid, [1, 2, 3], workers=2)
+    assert os.getpid() not in pids                  # in a pool's processes
+
+
+def test_without_it_the_cap_is_the_cores_this_process_may_use(monkeypatch):
+    monkeypatch.delenv("COMPARISONS_WORKERS", raising=False)
+    assert local_workers() == len(os.sched_getaffinity(0))
+
+
+@pytest.mark.parametrize("bad", ["0", "-1", "two", "1.5", ""])
+def test_a_bad_value_is_named(monkeypatch, bad):
+    monkeypatch.setenv("COMPARISONS_WORKERS", bad)
+    with pytest.raises(ValueError, match=f"COMPARISONS_WORKERS.*{bad!r}"):
+        local_workers()
