@@ -31,13 +31,14 @@ def compiled(kernel, args):
 @contextlib.contextmanager
 def lock():
     """An exclusive lock on a file in the temporary folder, one per copy of ``dem_core`` (none
-    where ``fcntl`` is missing: there each process compiles for itself)."""
+    where ``fcntl`` is missing or the file cannot be opened: then each process compiles for
+    itself, as without the lock)."""
     try:
         import fcntl
-    except ImportError:
+        fd = os.open(lock_path(), os.O_RDWR | os.O_CREAT, 0o666)
+    except (ImportError, OSError):
         yield
         return
-    fd = os.open(lock_path(), os.O_RDWR | os.O_CREAT, 0o666)
     try:
         fcntl.flock(fd, fcntl.LOCK_EX)
         yield
