@@ -71,9 +71,11 @@ def software_versions() -> dict:
     import numba
     import scipy
 
+    from comparisons.sweep import usable_cores
+
     versions = {"python": platform.python_version(), "numpy": np.__version__,
                 "numba": numba.__version__, "scipy": scipy.__version__,
-                "machine": f"{platform.machine()} {platform.system()} ({_cores()} cores)"}
+                "machine": f"{platform.machine()} {platform.system()} ({usable_cores()} cores)"}
     for name in ("dolfinx", "gmsh", "shapely"):
         try:
             module = __import__(name)
@@ -81,12 +83,6 @@ def software_versions() -> dict:
         except ImportError:
             pass
     return versions
-
-
-def _cores() -> int:
-    import os
-
-    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
 
 
 def _jsonable(value):

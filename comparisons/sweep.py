@@ -44,13 +44,18 @@ def launched_under_mpi() -> bool:
     return False
 
 
+def usable_cores() -> int:
+    """The cores this process may run on (its CPU affinity, where the system has one)."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (
+        os.cpu_count() or 1)
+
+
 def local_workers() -> int:
     """The most members a local pool runs side by side: ``COMPARISONS_WORKERS`` if set (a whole
-    number >= 1, ValueError naming it otherwise), else the cores this process may use."""
+    number >= 1, ValueError naming it otherwise), else ``usable_cores()``."""
     value = os.environ.get("COMPARISONS_WORKERS")
     if value is None:
-        return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (
-            os.cpu_count() or 1)
+        return usable_cores()
     if not value.strip().isdigit() or int(value) < 1:
         raise ValueError(f"COMPARISONS_WORKERS must be a whole number >= 1, got {value!r}")
     return int(value)

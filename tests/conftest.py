@@ -30,30 +30,28 @@ def _close_figures():
 # files that never step one, in this process or a child: the other worker runs them meanwhile
 # and then loads the step from numba's cache instead of compiling it as well
 # (``dem_core.jit_cache`` makes it wait for the cache if it gets there first). Then the
-# longest files (seconds on the 2-core VM, 2026-11-26, with two workers), so that the two
-# workers finish together; the rest in their usual order.
+# longest files (seconds on the 2-core VM, 2026-11-26, two workers, one-process sweeps), so
+# that the two workers finish together; the rest in their usual order.
 COMPILES_THE_STEP = ["test_mech_closed_forms.py"]        # steps at its first test
-NEVER_STEPS = ["test_continuum_ssr.py",                # 78 s
-               "test_continuum_robustness.py",         # 17
-               "test_continuum_model.py",              # 9
-               "test_geometry_blocks.py",              # 5
+NEVER_STEPS = ["test_continuum_ssr.py",                # 70 s
+               "test_continuum_robustness.py",         # 13
+               "test_continuum_model.py",              # 14
+               "test_geometry_blocks.py",              # 6
                "test_continuum_return_mapping.py",
                "test_geometry_joints.py",
                "test_continuum_staged.py",
                "test_continuum_hoek_brown.py"]
-LONGEST = ["test_common_toppling_quick.py",            # 144 s
-           "test_adhikary_quick.py",                   # 120
-           "test_lajtai_case.py",                      # 105
-           "test_examples.py",                         # 65
-           "test_lornex_quick.py",                     # 65
-           "test_longtan_quick.py",                    # 64
-           "test_checkerboard_quick.py",               # 54
-           "test_lajtai_deformable.py",                # 43
-           "test_deformable.py",                       # 40 (compiles the threaded step)
-           "test_support.py",                          # 30
-           "test_underdip_quick.py",                   # 26
-           "test_voronoi_beam.py",                     # 25
-           "test_zones_plastic.py"]                    # 19
+LONGEST = ["test_common_toppling_quick.py",            # 253 s
+           "test_adhikary_quick.py",                   # 167
+           "test_longtan_quick.py",                    # 104
+           "test_lajtai_case.py",                      # 93
+           "test_checkerboard_quick.py",               # 77
+           "test_lornex_quick.py",                     # 61
+           "test_voronoi_beam.py",                     # 56
+           "test_examples.py",                         # 47
+           "test_lajtai_deformable.py",                # 45
+           "test_underdip_quick.py",                   # 30
+           "test_deformable.py"]                       # 28 (compiles the threaded step)
 _ORDER = {name: i for i, name in enumerate(COMPILES_THE_STEP + NEVER_STEPS + LONGEST)}
 
 
@@ -61,10 +59,11 @@ def pytest_configure(config):
     """In each pytest-xdist worker, sweeps get the worker's share of the cores
     (``COMPARISONS_WORKERS``, ``comparisons.sweep.local_workers``): two workers each running a
     two-process sweep on two cores time-share them."""
+    from comparisons.sweep import usable_cores
+
     workers = int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "0"))
     if workers > 1 and "COMPARISONS_WORKERS" not in os.environ:
-        cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
-        os.environ["COMPARISONS_WORKERS"] = str(max(1, cores // workers))
+        os.environ["COMPARISONS_WORKERS"] = str(max(1, usable_cores() // workers))
 
 
 def pytest_collection_modifyitems(config, items):

@@ -18,7 +18,7 @@ def slide(friction: float) -> float:
     return float(m.displacement()[1, 0])
 
 
-def _pid(_member) -> int:
+def member_pid(_member) -> int:
     """The process a member ran in (tests/test_sweep_workers.py)."""
     import os
 

@@ -4,23 +4,23 @@ import os
 
 import pytest
 
-from comparisons.sweep import local_workers, run_sweep
-from sweep_members import _pid
+from comparisons.sweep import local_workers, run_sweep, usable_cores
+from sweep_members import member_pid
 
 
 def test_comparisons_workers_caps_the_pool(monkeypatch):
     monkeypatch.setenv("COMPARISONS_WORKERS", "1")
     lines = []
-    assert run_sweep(_pid, [1, 2, 3], workers=2, progress=lines.append) == [os.getpid()] * 3
+    assert run_sweep(member_pid, [1, 2, 3], workers=2, progress=lines.append) == [os.getpid()] * 3
     assert all(line.endswith("(serial)") for line in lines) and len(lines) == 3
     monkeypatch.setenv("COMPARISONS_WORKERS", "2")
-    pids = run_sweep(_pid, [1, 2, 3], workers=2)
+    pids = run_sweep(member_pid, [1, 2, 3], workers=2)
     assert os.getpid() not in pids                  # in a pool's processes
 
 
 def test_without_it_the_cap_is_the_cores_this_process_may_use(monkeypatch):
     monkeypatch.delenv("COMPARISONS_WORKERS", raising=False)
-    assert local_workers() == len(os.sched_getaffinity(0))
+    assert local_workers() == usable_cores() == len(os.sched_getaffinity(0))
 
 
 @pytest.mark.parametrize("bad", ["0", "-1", "two", "1.5", ""])
