@@ -228,8 +228,10 @@ def chunk_forces(c, strength, s, rnd, dfm, par, edges, j, cracks, time):
     ``cracks`` at once. ``j >= 0``, chunk j of the threaded kernel (``parallel.py``, ``par`` its
     Parallel bundle): the chunk's owned blocks zeroed, its contacts' forces added to the owned
     blocks the same way, and kept in ``par.work`` where a block is shared or a bond failed (the
-    failures' events in ``par.events``, logged after the region in contact order). One loop
-    for both: the same machine arithmetic, and numba compiles the law once."""
+    failures' events in ``par.events``, logged after the region in contact order); an edge's
+    share whose partner lies in the chunk is computed here and kept in ``par.edge_work`` where
+    a block is shared. One loop for both: the same machine arithmetic, and numba compiles the
+    law once."""
     serial = j < 0
     f, pos, owner, work = s.force, s.pos, par.owner, par.work
     if serial:
@@ -273,8 +275,14 @@ def chunk_forces(c, strength, s, rnd, dfm, par, edges, j, cracks, time):
             f[a, 1] -= fy
             f[a, 2] -= (xa - pos[a, 0]) * fy - (ya - pos[a, 1]) * fx
         p = c.partner[k] if edges else -1
-        if 0 <= p < k and (own_a or own_b):     # the edge's share (``edge_correction``)
+        if 0 <= p < k and p >= k0:     # the edge's share (``edge_correction``): partner here
             gx, gy, mb, ma = edge_correction(k, c, s, xa, ya)
+            if not (own_a and own_b):  # for the shared pass (the owned blocks may move)
+                ew = par.edge_work
+                ew[k, 0] = gx
+                ew[k, 1] = gy
+                ew[k, 2] = mb
+                ew[k, 3] = ma
             if own_b:
                 f[b, 0] += gx
                 f[b, 1] += gy

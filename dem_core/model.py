@@ -744,7 +744,8 @@ class Model:
             return no_parallel()
         import numba
         numba.set_num_threads(self.threads)
-        return parallel_bundle(self.contacts, self.n_blocks, self.threads)
+        return parallel_bundle(self.contacts, self.n_blocks, self.threads,
+                               self.edge_elements)
 
     def _integrator(self):
         half = 0.5 * self.search_margin if self.search_enabled else math.inf

@@ -30,16 +30,19 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
+from .components.gravity import add_gravity_to
 from .forces import chunk_forces, edge_correction, log_crack
+from .integration import advance_range, merge_status
 from .state import Parallel, no_parallel
 
-__all__ = ["Parallel", "contact_table", "add_contact_forces_parallel", "no_parallel",
-           "parallel_bundle", "chunk_owners"]
+__all__ = ["Parallel", "contact_table", "add_contact_forces_parallel",
+           "contacts_and_advance_parallel", "no_parallel", "parallel_bundle", "chunk_owners"]
 
 
-def parallel_bundle(c, nb, threads) -> Parallel:
+def parallel_bundle(c, nb, threads, edges=False) -> Parallel:
     """Chunks, owners and table for the live contacts of ``c`` among ``nb`` blocks, one chunk
-    per thread (``threads``)."""
+    per thread (``threads``); ``edges``: the model has edge elements (scratch for their
+    shares)."""
     nc = int(c.count[0])
     chunks = max(1, min(threads, nc))
     first = np.array([nc * j // chunks for j in range(chunks + 1)], np.int64)
@@ -48,7 +51,8 @@ def parallel_bundle(c, nb, threads) -> Parallel:
     shared = np.flatnonzero(owner < 0).astype(np.int64)
     offsets, entries = contact_table(nc, c.block_a, c.block_b, nb, shared)
     return Parallel(first, owner, own_offsets, own_blocks, shared, offsets, entries,
-                    np.empty((c.n, 4)), np.zeros(c.n, np.int8), np.zeros(chunks, np.int64))
+                    np.empty((c.n, 4)), np.empty((c.n if edges else 0, 4)),
+                    np.zeros(c.n, np.int8), np.zeros(chunks, np.int64))
 
 
 @njit(cache=True)
@@ -116,7 +120,7 @@ MIN_CONTACTS = 30_000
 def add_contact_forces_parallel(c, strength, s, cracks, time, rnd, par, edges, dfm):
     """Same inputs and effect as ``forces.add_contact_forces``, with the ``Parallel`` bundle
     (which also zeroes the forces: the step leaves that to this kernel)."""
-    work, events, failures = par.work, par.events, par.failures
+    failures = par.failures
     chunks = par.first.shape[0] - 1
     for jp in prange(chunks):
         # numba types a prange index int64 when it types this function and uint64 when it
@@ -124,16 +128,61 @@ def add_contact_forces_parallel(c, strength, s, cracks, time, rnd, par, edges, d
         # start each); the cast leaves one signature
         j = np.int64(jp)
         failures[j] = chunk_forces(c, strength, s, rnd, dfm, par, edges, j, cracks, time)
-    for j in range(chunks):                      # the crack log, in contact order
-        if failures[j] == 0:
+    _log_failures(c, cracks, time, par)
+    _shared_forces(c, s, par, edges)
+
+
+@njit(cache=True, parallel=True)
+def contacts_and_advance_parallel(c, strength, s, p, cracks, time, rnd, par, integ, gravity,
+                                  dfm, kick):
+    """A whole step but kinetic damping, in one parallel region, for a scene whose only force
+    besides the contacts' is gravity (``step.run_steps_threaded``); returns (status, block) as
+    ``integration.advance``.
+
+    Each chunk, once its contacts are done, adds gravity (m g) to its owned blocks and moves
+    them (``integration.advance_range``): their forces are complete, and no other chunk's
+    contact reads them. After the region: the crack log, the shared blocks' forces, their
+    gravity and their moves. Each block sums the same numbers in the same order as the serial
+    step (contacts in contact order, then gravity) and moves by the same arithmetic, so the
+    results are bit for bit the serial ones; only an unstable block differs (the other chunks'
+    blocks have moved, the run stops there). ``kick`` (s): the velocity update's time."""
+    failures, chunks = par.failures, par.first.shape[0] - 1
+    nb = s.pos.shape[0]
+    first_unstable, last_search = nb, -1
+    for jp in prange(chunks):
+        j = np.int64(jp)                         # (add_contact_forces_parallel: why)
+        failures[j] = chunk_forces(c, strength, s, rnd, dfm, par, integ.edge_elements, j,
+                                       cracks, time)
+        r0, r1 = par.own_offsets[j], par.own_offsets[j + 1]
+        add_gravity_to(gravity, s, p, par.own_blocks, r0, r1)
+        u, n = advance_range(s, p, integ, kick, r0, r1, par.own_blocks)
+        if u >= 0:
+            first_unstable = min(first_unstable, u)
+        last_search = max(last_search, n)
+    _log_failures(c, cracks, time, par)
+    _shared_forces(c, s, par, integ.edge_elements)
+    ns = par.shared.shape[0]
+    add_gravity_to(gravity, s, p, par.shared, 0, ns)
+    if first_unstable == nb:
+        unstable, search = advance_range(s, p, integ, kick, 0, ns, par.shared)
+        first_unstable = unstable if unstable >= 0 else nb
+        last_search = max(last_search, search)
+    return merge_status(first_unstable, last_search, nb)
+
+
+@njit(cache=True)
+def _log_failures(c, cracks, time, par):
+    """The chunks' bond failures appended to the crack log in contact order (the serial
+    kernel's order)."""
+    for j in range(par.failures.shape[0]):
+        if par.failures[j] == 0:
             continue
         for k in range(par.first[j], par.first[j + 1]):
-            event = events[k]
+            event = par.events[k]
             if event != 0:
-                log_crack(cracks, time, work[k, 2], work[k, 3], event, c.block_a[k],
+                log_crack(cracks, time, par.work[k, 2], par.work[k, 3], event, c.block_a[k],
                           c.block_b[k], c.material[k])
-                events[k] = 0
-    _shared_forces(c, s, par, edges)
+                par.events[k] = 0
 
 
 @njit(cache=True, inline="always")
@@ -160,7 +209,11 @@ def _shared_forces(c, s, par, edges):
                 f[i, 2] -= (xa - pos[i, 0]) * fy - (ya - pos[i, 1]) * fx
             p = c.partner[k] if edges else -1
             if 0 <= p < k:                   # the edge's share (forces.edge_correction)
-                gx, gy, mb, ma = edge_correction(k, c, s, xa, ya)
+                if _same_chunk(par.first, p, k):   # the chunk computed it, before moving
+                    gx, gy, mb, ma = (par.edge_work[k, 0], par.edge_work[k, 1],
+                                      par.edge_work[k, 2], par.edge_work[k, 3])
+                else:         # both blocks are shared (contacts in two chunks), unmoved
+                    gx, gy, mb, ma = edge_correction(k, c, s, xa, ya)
                 if e & 1:
                     f[i, 0] += gx
                     f[i, 1] += gy
@@ -169,3 +222,12 @@ def _shared_forces(c, s, par, edges):
                     f[i, 0] -= gx
                     f[i, 1] -= gy
                     f[i, 2] -= ma
+
+
+@njit(cache=True, inline="always")
+def _same_chunk(first, p, k):
+    """True when contacts p < k lie in the same chunk (no chunk starts in p < start <= k)."""
+    for j in range(1, first.shape[0] - 1):
+        if p < first[j] <= k:
+            return False
+    return True

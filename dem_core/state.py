@@ -187,6 +187,9 @@ class Parallel(NamedTuple):
         order; an entry is 2 k for block A of contact k (force subtracted), 2 k + 1 for B.
     work : (nc, 4) float64. Force on B (N/m) and point (m) of contact k, written when k
         touches a shared block or fails.
+    edge_work : (nc, 4) float64, or (0, 4) without edge elements. The edge's share of contact
+        k (``forces.edge_correction``: force on B, N/m; moments on B and on A, N m/m), written
+        when k touches a shared block and its partner lies in the same chunk.
     events : (nc,) int8. The failure event (1 tension, 2 shear) of contact k this step, set by
         the chunk, read and cleared by the crack-log pass; 0 otherwise.
     failures : (chunks,) int64. Each chunk's bond failures this step.
@@ -200,6 +203,7 @@ class Parallel(NamedTuple):
     offsets: np.ndarray
     entries: np.ndarray
     work: np.ndarray
+    edge_work: np.ndarray
     events: np.ndarray
     failures: np.ndarray
 
@@ -209,4 +213,5 @@ def no_parallel() -> Parallel:
     """The empty bundle: the serial kernel (``forces.add_contact_forces``, which also builds it
     inside numba)."""
     e = np.zeros(0, np.int64)
-    return Parallel(e, e, e, e, e, e, e, np.zeros((0, 4)), np.zeros(0, np.int8), e)
+    return Parallel(e, e, e, e, e, e, e, np.zeros((0, 4)), np.zeros((0, 4)),
+                    np.zeros(0, np.int8), e)

@@ -19,12 +19,19 @@ One step (``run_steps`` loops it inside numba, no Python in between)::
                                        v  += F_d / m_inertial * dt
     prescribed components:             v   = v_bc
     x += v dt;  theta += omega dt;  rot = R(theta);  checks (stability, search needed)
+                                             integration.py
     kinetic damping (every ``kinetic_interval`` steps; a stop also stops the zones)
 
 With threads (``Model(threads=n)``, a non-empty ``Parallel`` bundle) ``run_steps_threaded``
-runs the same step with ``parallel.add_contact_forces_parallel`` (which also zeroes f, block
-by block) and the damping and integration ``advance_parallel`` (from ``MIN_THREADED_BLOCKS``
-blocks up): the same numbers for every block, bit for bit.
+runs the same step, the same numbers for every block, bit for bit, in one of two shapes:
+
+- gravity the only force besides the contacts' (``only_gravity``): one parallel region,
+  ``parallel.contacts_and_advance_parallel``. Each thread's chunk of contacts, then gravity
+  and the moves of the blocks it owns (all their contacts in the chunk); after the region the
+  shared blocks' forces, gravity and moves;
+- otherwise: ``parallel.add_contact_forces_parallel`` (which also zeroes f, block by block),
+  the other forces, and the damping and integration ``advance_parallel`` (from
+  ``MIN_THREADED_BLOCKS`` blocks up; serial below): two regions.
 
 Velocities live at half steps (t - dt/2, t + dt/2), positions at whole steps. With alpha = 0 the
 scheme is symplectic: energy oscillates by O((omega dt)^2) and does not drift.
@@ -47,19 +54,19 @@ a tenth of its radius, or turning 0.1 rad, in one step; ``bad`` names the block)
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from .components import add_cables, add_gravity, add_liners, add_loads, add_water, servo_velocities
 from .components.deformable import add_deformable, zone_kinetic_energy
-from .components.nodes import damped
 from .forces import add_contact_forces
-from .kinematics import body_point, set_rotation
-from .parallel import add_contact_forces_parallel
+from .integration import (DONE, MIN_THREADED_BLOCKS, NEED_SEARCH, UNSTABLE, advance,
+                          advance_parallel)
+from .kinematics import body_point
+from .parallel import add_contact_forces_parallel, contacts_and_advance_parallel
 
-__all__ = ["run_steps", "run_steps_threaded", "frequency_bound", "free_kinetic_energy", "stop_free_motion",
-           "advance", "advance_parallel", "DONE", "NEED_SEARCH", "UNSTABLE"]
-
-DONE, NEED_SEARCH, UNSTABLE = 0, 1, 2
+__all__ = ["run_steps", "run_steps_threaded", "frequency_bound", "free_kinetic_energy",
+           "stop_free_motion", "advance", "advance_parallel", "only_gravity", "DONE",
+           "NEED_SEARCH", "UNSTABLE"]
 
 
 @njit(cache=True)
@@ -94,16 +101,25 @@ def run_steps(nsteps, time, integ, s, p, c, strength, cracks, rnd, gravity, load
 def run_steps_threaded(nsteps, time, integ, s, p, c, strength, cracks, rnd, par, gravity,
                        loads, water, cables, liners, servo, dfm):
     """``run_steps`` on the threads: ``par`` the Parallel bundle (chunks and scratch); the
-    same numbers, bit for bit."""
+    same numbers, bit for bit. When gravity is the only force besides the contacts' (the
+    other bundles empty), the step is one parallel region
+    (``parallel.contacts_and_advance_parallel``); otherwise the contact pass is one region and
+    the integration another (from ``MIN_THREADED_BLOCKS`` blocks up)."""
+    one_region = only_gravity(loads, water, cables, liners, servo, dfm)
     for step in range(nsteps):
-        add_contact_forces_parallel(c, strength, s, cracks, time, rnd, par,  # (zeroes f)
-                                    integ.edge_elements, dfm)
-        kick = add_other_forces(integ, s, p, c, gravity, loads, water, cables, liners, servo,
-                                dfm)
-        if s.pos.shape[0] < MIN_THREADED_BLOCKS:
-            status, bad = advance(s, p, integ, kick)
+        if one_region:
+            kick = next_kick(integ)
+            status, bad = contacts_and_advance_parallel(c, strength, s, p, cracks, time, rnd,
+                                                        par, integ, gravity, dfm, kick)
         else:
-            status, bad = advance_parallel(s, p, integ, kick)
+            add_contact_forces_parallel(c, strength, s, cracks, time, rnd, par,  # (zeroes f)
+                                        integ.edge_elements, dfm)
+            kick = add_other_forces(integ, s, p, c, gravity, loads, water, cables, liners,
+                                    servo, dfm)
+            if s.pos.shape[0] < MIN_THREADED_BLOCKS:
+                status, bad = advance(s, p, integ, kick)
+            else:
+                status, bad = advance_parallel(s, p, integ, kick)
         if status == UNSTABLE:
             return step, time, UNSTABLE, bad
         time += integ.dt
@@ -111,6 +127,25 @@ def run_steps_threaded(nsteps, time, integ, s, p, c, strength, cracks, rnd, par,
         if status == NEED_SEARCH:
             return step + 1, time, NEED_SEARCH, bad
     return nsteps, time, DONE, -1
+
+
+@njit(cache=True)
+def only_gravity(loads, water, cables, liners, servo, dfm):
+    """True when none of the force components but gravity is in the scene (their bundles
+    empty: no applied loads, water, cables, liners, servos or deformable blocks)."""
+    return (loads.blocks.shape[0] == 0 and water.contact.shape[0] == 0
+            and water.face_block.shape[0] == 0 and cables.node_pos.shape[0] == 0
+            and liners.node_pos.shape[0] == 0 and servo.offsets.shape[0] <= 1
+            and dfm.point_offsets.shape[0] == 0)
+
+
+@njit(cache=True)
+def next_kick(integ):
+    """The time (s) of this step's velocity update: ``dt``, or ``dt / 2`` on the first step
+    after a kinetic-damping stop (which this clears)."""
+    kick = 0.5 * integ.dt if integ.kinetic[2] != 0.0 else integ.dt
+    integ.kinetic[2] = 0.0
+    return kick
 
 
 @njit(cache=True)
@@ -124,9 +159,8 @@ def add_other_forces(integ, s, p, c, gravity, loads, water, cables, liners, serv
     add_cables(cables, s, p)
     add_liners(liners, s, p)
     servo_velocities(servo, s, p)
-    kick = 0.5 * integ.dt if integ.kinetic[2] != 0.0 else integ.dt
+    kick = next_kick(integ)
     add_deformable(dfm, c, s, p, kick)
-    integ.kinetic[2] = 0.0
     return kick
 
 
@@ -136,100 +170,6 @@ def end_step(integ, s, p, dfm):
     kinetic_damping(integ, s, p, dfm)
     if integ.kinetic[2] != 0.0:
         dfm.v[:] = 0.0
-
-
-@njit(cache=True)
-def advance(s, p, integ, kick):
-    """Damp, integrate, turn and check every block (one pass over the blocks); returns
-    (status, block).
-
-    ``kick`` (s): the time of the velocity update (``dt``, or ``dt / 2`` on the first step after
-    a kinetic-damping stop); positions always move by v dt, and each block's ``rot`` and
-    ``rot_half`` follow its new theta. The checks compare squares (no square roots): unstable
-    when |v| dt > radius / 10 or |omega| dt > 0.1 (or NaN), before the block moves (the pass
-    stops there); a search is needed when |x - x_search| + |theta - theta_search| radius
-    exceeds half the margin. The block named is the unstable one, or the last that needs a
-    search.
-    """
-    unstable, search = advance_range(s, p, integ, kick, 0, s.pos.shape[0])
-    if unstable >= 0:
-        return UNSTABLE, unstable
-    if search >= 0:
-        return NEED_SEARCH, search
-    return DONE, -1
-
-
-# One compiled loop for the serial pass and for each chunk of the threaded one, so both do the
-# same machine arithmetic. (Written out, not through an inlined per-block helper taking the
-# bundles: that made the serial step about 15 % slower, benchmarks/throughput.py.)
-@njit(cache=True)
-def advance_range(s, p, integ, kick, i0, i1):
-    """``advance`` of blocks i0 <= i < i1; returns (the first unstable block, which stops the
-    pass before it moves, or -1; the last block that needs a search, or -1)."""
-    dt, alpha, vel, omega = integ.dt, integ.damping, s.vel, s.omega
-    search = -1
-    for n in range(i1 - i0):
-        b = i0 + n
-        i = np.uint64(b)       # unsigned: no negative-index wraparound on every access
-        if not p.active[i]:
-            continue
-        fx = p.fixity[i]
-        if fx & 1:
-            vel[i, 0] = p.velocity_bc[i, 0]
-        else:
-            vel[i, 0] += damped(s.force[i, 0], vel[i, 0], alpha) * p.inv_mass[i] * kick
-        if fx & 2:
-            vel[i, 1] = p.velocity_bc[i, 1]
-        else:
-            vel[i, 1] += damped(s.force[i, 1], vel[i, 1], alpha) * p.inv_mass[i] * kick
-        if fx & 4:
-            omega[i] = p.velocity_bc[i, 2]
-        else:
-            omega[i] += damped(s.force[i, 2], omega[i], alpha) * p.inv_inertia[i] * kick
-        v_max = 0.1 * p.radius[i] / dt
-        if not (vel[i, 0] * vel[i, 0] + vel[i, 1] * vel[i, 1] <= v_max * v_max
-                and abs(omega[i]) * dt <= 0.1):             # also catches NaN
-            return b, search
-        s.pos[i, 0] += vel[i, 0] * dt
-        s.pos[i, 1] += vel[i, 1] * dt
-        s.theta[i] += omega[i] * dt
-        set_rotation(s.theta, s.rot, s.rot_half, i)
-        left = integ.half_margin - abs(s.theta[i] - s.theta_search[i]) * p.radius[i]
-        dx, dy = s.pos[i, 0] - s.pos_search[i, 0], s.pos[i, 1] - s.pos_search[i, 1]
-        if left < 0.0 or dx * dx + dy * dy > left * left:
-            search = b
-    return -1, search
-
-
-# the threaded integration pass from this many blocks up: below it the start of a parallel
-# region (about 60 us with numba's TBB layer on the 2-core VM) costs more than the pass
-# (0.17 ms at 10,834 blocks on one thread, 0.18 ms on two; benchmarks/two_threads.py)
-MIN_THREADED_BLOCKS = 30_000
-
-# chunks of ``advance_parallel`` (a chunk is one call, a thread's unit of work), and the
-# fewest blocks in a chunk
-ADVANCE_CHUNKS, MIN_ADVANCE_CHUNK = 16, 256
-
-
-@njit(cache=True, parallel=True)
-def advance_parallel(s, p, integ, kick):
-    """``advance`` on the threads, by chunks of blocks (``advance_range``): every block the
-    same numbers. Differs only when a block is unstable: the blocks of the other chunks have
-    moved (the run stops there)."""
-    nb = s.pos.shape[0]
-    chunk = max(MIN_ADVANCE_CHUNK, -(-nb // ADVANCE_CHUNKS))
-    first_unstable, last_search = nb, -1
-    for jp in prange(-(-nb // chunk)):
-        j = np.int64(jp)                # (parallel.add_contact_forces_parallel: why)
-        u, n = advance_range(s, p, integ, kick, j * chunk, min(nb, (j + 1) * chunk))
-        if u >= 0:
-            first_unstable = min(first_unstable, u)
-        last_search = max(last_search, n)
-    if first_unstable < nb:
-        return UNSTABLE, first_unstable
-    if last_search >= 0:
-        return NEED_SEARCH, last_search
-    return DONE, -1
 
 
 @njit(cache=True)

@@ -8,22 +8,28 @@ from dem_core.materials import Material
 from dem_core.model import Model
 
 
-def _run(threads):
+def _run(threads, edges=False, load=False):
     bs = build_block_system(GeometrySpec(
         [rectangle("rock", 0, 0, 0.1, 0.05), rectangle("base", 0, -0.01, 0.1, 0)],
         voronoi={"rock": Voronoi(edge_length=0.006, seed=2)}))
     flaw = Material(kn=1e10, ks=5e9, tensile_strength=2e4, cohesion=4e4, friction=35)
-    model = Model(bs, {"flaw:*": flaw, "boundary:*": flaw}, density=2500.0, threads=threads)
+    model = Model(bs, {"flaw:*": flaw, "boundary:*": flaw}, density=2500.0, threads=threads,
+                  edge_elements=edges)
     model.fix("base")
     model.set_gravity(300.0)                    # strong enough to break bonds and search
+    if load:                # a force besides gravity: the threaded step's two-region shape
+        model.apply_load("rock", fx=50.0)
     model.cycle(3000)
     return model
 
 
+# gravity alone: one parallel region per step (contacts, gravity and moves of the owned
+# blocks); with a load: the contact region, the other forces, the serial integration
 @pytest.mark.skipif(numba.config.NUMBA_NUM_THREADS < 2, reason="needs 2 threads")
-def test_threaded_kernel_is_bit_for_bit_serial(monkeypatch):
+@pytest.mark.parametrize("edges, load", [(False, False), (True, False), (True, True)])
+def test_threaded_kernel_is_bit_for_bit_serial(monkeypatch, edges, load):
     monkeypatch.setattr("dem_core.parallel.MIN_CONTACTS", 0)     # a small model, threaded
-    serial, threaded = _run(1), _run(2)
+    serial, threaded = _run(1, edges, load), _run(2, edges, load)
     assert serial.crack_counts()["tension"] + serial.crack_counts()["shear"] > 0
     assert np.array_equal(serial.state.pos, threaded.state.pos)
     assert np.array_equal(serial.state.theta, threaded.state.theta)
@@ -38,10 +44,11 @@ def test_thread_count_is_checked():
 
 @pytest.mark.skipif(numba.config.NUMBA_NUM_THREADS < 2, reason="needs 2 threads")
 def test_threaded_integration_pass_is_bit_for_bit_serial():
-    """``step.advance_parallel`` (used from MIN_THREADED_BLOCKS blocks up) moves every block
-    as ``step.advance`` does: five steps of random forces on a specimen of several chunks."""
+    """``integration.advance_parallel`` (the two-region step, from MIN_THREADED_BLOCKS blocks
+    up) moves every block as ``integration.advance`` does: five steps of random forces on a
+    specimen of several chunks."""
     from dem_core.state import copy_bundle
-    from dem_core.step import advance, advance_parallel
+    from dem_core.integration import advance, advance_parallel
     bs = build_block_system(GeometrySpec(
         [rectangle("rock", 0, 0, 0.3, 0.15), rectangle("base", 0, -0.01, 0.3, 0)],
         voronoi={"rock": Voronoi(edge_length=0.004, seed=2)}))      # ~1,000 blocks: 4 chunks
@@ -60,3 +67,16 @@ def test_threaded_integration_pass_is_bit_for_bit_serial():
     assert model.n_blocks > 2 * 256 and np.abs(one.omega).max() > 0
     for name in ("pos", "theta", "rot", "rot_half", "vel", "omega"):
         assert np.array_equal(getattr(one, name), getattr(two, name)), name
+
+
+def test_the_threaded_step_is_one_region_only_when_gravity_is_the_only_other_force():
+    """``step.only_gravity`` picks the one-region step: true with gravity alone, false as soon
+    as another force component is in the scene (here an applied load)."""
+    from dem_core.step import only_gravity
+    bs = build_block_system(GeometrySpec([rectangle("rock", 0, 0, 0.02, 0.01)]))
+    flaw = Material(kn=1e10, ks=5e9, tensile_strength=2e4, cohesion=4e4, friction=35)
+    model = Model(bs, {"flaw:*": flaw, "boundary:*": flaw}, density=2500.0)
+    model.set_gravity(9.81)
+    assert only_gravity(*model._components()[1:], model.zone_state)
+    model.apply_load("rock", fx=1.0)
+    assert not only_gravity(*model._components()[1:], model.zone_state)

@@ -7,7 +7,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-__all__ = ["Gravity", "add_gravity", "gravity_bundle"]
+__all__ = ["Gravity", "add_gravity", "add_gravity_to", "gravity_bundle"]
 
 
 class Gravity(NamedTuple):
@@ -29,6 +29,19 @@ def add_gravity(grav, s, p):
     for r in range(grav.accel.shape[0]):
         gx, gy = grav.accel[r, 0], grav.accel[r, 1]
         for i in range(p.mass.shape[0]):
+            if p.active[i]:
+                s.force[i, 0] += p.mass[i] * gx
+                s.force[i, 1] += p.mass[i] * gy
+
+
+@njit(cache=True)
+def add_gravity_to(grav, s, p, blocks, r0, r1):
+    """``add_gravity`` for the active blocks blocks[r0:r1] only (the threaded step's owned and
+    shared blocks, ``parallel.contacts_and_advance_parallel``): the same arithmetic."""
+    for r in range(grav.accel.shape[0]):
+        gx, gy = grav.accel[r, 0], grav.accel[r, 1]
+        for n in range(r1 - r0):
+            i = blocks[np.uint64(r0 + n)]
             if p.active[i]:
                 s.force[i, 0] += p.mass[i] * gx
                 s.force[i, 1] += p.mass[i] * gy
