@@ -80,3 +80,24 @@ def test_the_threaded_step_is_one_region_only_when_gravity_is_the_only_other_for
     assert only_gravity(*model._components()[1:], model.zone_state)
     model.apply_load("rock", fx=1.0)
     assert not only_gravity(*model._components()[1:], model.zone_state)
+
+
+@pytest.mark.skipif(numba.config.NUMBA_NUM_THREADS < 2, reason="needs 2 threads")
+@pytest.mark.parametrize("load", [False, True])
+def test_an_unstable_threaded_step_is_reported(monkeypatch, load):
+    """A time step far above the critical one: both shapes of the threaded step stop and name
+    an unstable block, as the serial step does."""
+    from dem_core.model import ModelUnstable
+    monkeypatch.setattr("dem_core.parallel.MIN_CONTACTS", 0)
+    bs = build_block_system(GeometrySpec(
+        [rectangle("rock", 0, 0, 0.1, 0.05), rectangle("base", 0, -0.01, 0.1, 0)],
+        voronoi={"rock": Voronoi(edge_length=0.006, seed=2)}))
+    flaw = Material(kn=1e10, ks=5e9, tensile_strength=2e4, cohesion=4e4, friction=35)
+    model = Model(bs, {"flaw:*": flaw, "boundary:*": flaw}, density=2500.0, threads=2,
+                  dt=1e-3)
+    model.fix("base")
+    model.set_gravity(300.0)
+    if load:
+        model.apply_load("rock", fx=50.0)
+    with pytest.raises(ModelUnstable, match=r"block \d+.*critical step"):
+        model.cycle(100)
