@@ -1,6 +1,6 @@
 """Two threads against one on the whole step, and where the threaded step spends its time.
 
-    python benchmarks/two_threads.py                       # 1e3, 1e4, 1e5 blocks
+    python benchmarks/two_threads.py                       # 1e3, 3e3, 1e4, 1e5 blocks
     python benchmarks/two_threads.py --blocks 10000 --rounds 3 --layer omp
 
 The bonded Voronoi specimen of ``throughput.py`` (under 50 g on a fixed base). Per size three
@@ -186,7 +186,7 @@ def figure(rows, path):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--blocks", type=int, nargs="*", default=[1000, 10_000, 100_000])
+    ap.add_argument("--blocks", type=int, nargs="*", default=[1000, 3000, 10_000, 100_000])
     ap.add_argument("--rounds", type=int, default=15)
     ap.add_argument("--out", default=os.path.join(HERE, "results"))
     ap.add_argument("--layer", default="default", choices=["default", "tbb", "omp", "workqueue"],

@@ -79,7 +79,7 @@ class Model:
         Steps between history records.
     threads : int
         Threads for the contact forces and the integration (1: the serial kernels; more:
-        ``dem_core.parallel`` and ``step.advance_parallel``, bit-for-bit the same results,
+        ``dem_core.parallel`` and ``integration.advance_parallel``, bit-for-bit the same results,
         used from ``parallel.MIN_CONTACTS`` live contacts up: below that one thread is
         faster). At most numba's thread count (the cores).
     kinetic_damping : int

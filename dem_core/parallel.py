@@ -108,9 +108,10 @@ def contact_table(nc, block_a, block_b, nb, blocks):
 
 
 # below this many live contacts ``Model(threads=n)`` runs the serial kernels (same results):
-# starting a parallel region costs more than a second core gives there
-# (benchmarks/two_threads.py)
-MIN_CONTACTS = 30_000
+# starting a parallel region costs more than a second core gives there. Two threads against
+# one, both shapes of the step, 2-core VM (benchmarks/two_threads.py, docs/performance.md):
+# 0.88x at 6,020 contacts, 1.04-1.19x at 12,106, 1.20-1.42x at 18,328
+MIN_CONTACTS = 15_000
 
 
 # Each chunk calls forces.chunk_forces, the serial kernel's own loop (the same machine
