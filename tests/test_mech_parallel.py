@@ -8,13 +8,13 @@ from dem_core.materials import Material
 from dem_core.model import Model
 
 
-def _run(threads, edges=False, load=False):
+def _run(threads, edges=False, load=False, rounding=0.0):
     bs = build_block_system(GeometrySpec(
         [rectangle("rock", 0, 0, 0.1, 0.05), rectangle("base", 0, -0.01, 0.1, 0)],
         voronoi={"rock": Voronoi(edge_length=0.006, seed=2)}))
     flaw = Material(kn=1e10, ks=5e9, tensile_strength=2e4, cohesion=4e4, friction=35)
     model = Model(bs, {"flaw:*": flaw, "boundary:*": flaw}, density=2500.0, threads=threads,
-                  edge_elements=edges)
+                  edge_elements=edges, rounding=rounding)
     model.fix("base")
     model.set_gravity(300.0)                    # strong enough to break bonds and search
     if load:                # a force besides gravity: the threaded step's two-region shape
@@ -26,10 +26,12 @@ def _run(threads, edges=False, load=False):
 # gravity alone: one parallel region per step (contacts, gravity and moves of the owned
 # blocks); with a load: the contact region, the other forces, the serial integration
 @pytest.mark.skipif(numba.config.NUMBA_NUM_THREADS < 2, reason="needs 2 threads")
-@pytest.mark.parametrize("edges, load", [(False, False), (True, False), (True, True)])
-def test_threaded_kernel_is_bit_for_bit_serial(monkeypatch, edges, load):
+@pytest.mark.parametrize("edges, load, rounding", [(False, False, 0.0), (True, False, 0.0),
+                                                   (True, True, 0.0), (False, False, 2e-4)])
+def test_threaded_kernel_is_bit_for_bit_serial(monkeypatch, edges, load, rounding):
     monkeypatch.setattr("dem_core.parallel.MIN_CONTACTS", 0)     # a small model, threaded
-    serial, threaded = _run(1, edges, load), _run(2, edges, load)
+    serial = _run(1, edges, load, rounding)
+    threaded = _run(2, edges, load, rounding)
     assert serial.crack_counts()["tension"] + serial.crack_counts()["shear"] > 0
     assert np.array_equal(serial.state.pos, threaded.state.pos)
     assert np.array_equal(serial.state.theta, threaded.state.theta)
