@@ -16,6 +16,8 @@ so a crash in one does not stop the rest:
                      rigid ones, 218 Voronoi blocks (about 1 min; docs/mechanics.md)
 - performance.py     throughput (1 and 2 threads), scaling, step profile, machine limit,
                      continuum s/iteration
+- two_threads.py     two threads against one, both shapes of the threaded step, and its
+                     parts (1e3 to 1e5 blocks, about 7 min; docs/performance.md)
 - lab_resolution.py  error against run time of the lab case (UCS, shear peak: block size,
                      time-step safety)
 - centrifuge_resolution.py  Adhikary failure g against block size and run time (quick: 8, 6
@@ -56,7 +58,7 @@ def main():
     mode = "--full" if a.full else "--quick"
     jobs = [["error_vs_time.py", mode], ["stability_map.py", mode], ["leave_out.py", mode],
             ["support_cost.py"], ["deformable_cost.py"],
-            ["performance.py", mode], ["numba_pipelines.py"], ["lab_resolution.py", mode],
+            ["performance.py", mode], ["two_threads.py"], ["numba_pipelines.py"], ["lab_resolution.py", mode],
             ["centrifuge_resolution.py", "--edges", "0.008", "0.006", "0.004"]
             + (["0.003"] if a.full else []), ["bedding_demand.py"], ["gravity_box.py"],
             ["deformable_ucs.py", "--zones", "0", "0.0035", "--cohesion", "0.05e6", "0.5e6",
