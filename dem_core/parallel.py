@@ -22,8 +22,15 @@ scratch is written only for the contacts of shared blocks and for failures.
 Used when ``Model(threads=n)`` with n > 1 and the model has at least ``MIN_CONTACTS`` live
 contacts. An edge element's correction (``forces.edge_correction``) needs its partner contact
 updated first: the partner joins the same two blocks, so for an owned block it lies in the same
-chunk, before it; for a shared block the correction is computed in the serial pass, after all
-contacts are updated.
+chunk, before it. For a shared block, the chunk computes it when the partner lies in the same
+chunk (kept in ``Parallel.edge_work``); otherwise both blocks have contacts in two chunks, so
+both are shared, and the serial pass computes it after all contacts are updated.
+
+When gravity is the only other force, the whole step is one region
+(``contacts_and_advance_parallel``): an owned block's force is complete when its chunk's
+contacts are done, and no other chunk reads it, so the chunk's thread adds its gravity and
+moves it there; the shared blocks follow after the region. That is why the shared pass never
+reads an owned block's pose: it may already have moved.
 """
 from __future__ import annotations
 
