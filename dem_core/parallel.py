@@ -154,13 +154,15 @@ def contacts_and_advance_parallel(c, strength, s, p, cracks, time, rnd, par, int
     step (contacts in contact order, then gravity) and moves by the same arithmetic, so the
     results are bit for bit the serial ones; only an unstable block differs (the other chunks'
     blocks have moved, the run stops there). ``kick`` (s): the velocity update's time."""
+    # a local name: written as par.failures[j] inside the prange, the writes were lost
+    # (numba 0.68.1; docs/history.md)
     failures, chunks = par.failures, par.first.shape[0] - 1
     nb = s.pos.shape[0]
     first_unstable, last_search = nb, -1
     for jp in prange(chunks):
         j = np.int64(jp)                         # (add_contact_forces_parallel: why)
         failures[j] = chunk_forces(c, strength, s, rnd, dfm, par, integ.edge_elements, j,
-                                       cracks, time)
+                                   cracks, time)
         r0, r1 = par.own_offsets[j], par.own_offsets[j + 1]
         add_gravity_to(gravity, s, p, par.own_blocks, r0, r1)
         u, n = advance_range(s, p, integ, kick, r0, r1, par.own_blocks)
