@@ -26,22 +26,22 @@ def gravity_bundle(accel) -> Gravity:
 @njit(cache=True)
 def add_gravity(grav, s, p):
     """f_i += m_i g for every active block i (N/m)."""
-    for r in range(grav.accel.shape[0]):
-        gx, gy = grav.accel[r, 0], grav.accel[r, 1]
-        for i in range(p.mass.shape[0]):
-            if p.active[i]:
-                s.force[i, 0] += p.mass[i] * gx
-                s.force[i, 1] += p.mass[i] * gy
+    add_gravity_to(grav, s, p, None, 0, p.mass.shape[0])
 
 
 @njit(cache=True)
 def add_gravity_to(grav, s, p, blocks, r0, r1):
-    """``add_gravity`` for the active blocks blocks[r0:r1] only (the threaded step's owned and
-    shared blocks, ``parallel.contacts_and_advance_parallel``): the same arithmetic."""
+    """f_i += m_i g for the active blocks r0 <= i < r1 (``blocks`` None), or blocks[r0:r1] (an
+    int64 array: the threaded step's owned and shared blocks,
+    ``parallel.contacts_and_advance_parallel``)."""
     for r in range(grav.accel.shape[0]):
         gx, gy = grav.accel[r, 0], grav.accel[r, 1]
         for n in range(r1 - r0):
-            i = blocks[np.uint64(r0 + n)]
+            if blocks is None:          # (numba compiles each case without the other)
+                b = r0 + n
+            else:
+                b = blocks[np.uint64(r0 + n)]
+            i = np.uint64(b)            # unsigned: no negative-index wraparound
             if p.active[i]:
                 s.force[i, 0] += p.mass[i] * gx
                 s.force[i, 1] += p.mass[i] * gy
