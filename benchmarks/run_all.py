@@ -58,7 +58,8 @@ def main():
     mode = "--full" if a.full else "--quick"
     jobs = [["error_vs_time.py", mode], ["stability_map.py", mode], ["leave_out.py", mode],
             ["support_cost.py"], ["deformable_cost.py"],
-            ["performance.py", mode], ["two_threads.py"], ["numba_pipelines.py"], ["lab_resolution.py", mode],
+            ["performance.py", mode], ["two_threads.py"], ["numba_pipelines.py"],
+            ["lab_resolution.py", mode],
             ["centrifuge_resolution.py", "--edges", "0.008", "0.006", "0.004"]
             + (["0.003"] if a.full else []), ["bedding_demand.py"], ["gravity_box.py"],
             ["deformable_ucs.py", "--zones", "0", "0.0035", "--cohesion", "0.05e6", "0.5e6",
