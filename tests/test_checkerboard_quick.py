@@ -14,12 +14,12 @@ is the thesis's claim itself (larger / smaller, fails / stands):
   a Hoek-Brown tensile strength of the order the thesis quotes (9-20 kPa; Table 7.2's
   weathered units 16-22 kPa; band 5-40 kPa: a factor 2 around those, the GSI/mi rounding);
 - the continuum's factor of safety falls with UCS (same Hoek-Brown masses, weaker at 30);
-- Table 7.4's trend: T at failure is higher at UCS 50 and 30 than at 76 MPa. 76 -> 50 held
-  in a finer plan too (13 levels, 8000 steps); 76 -> 30 reversed there (docs): for 30 MPa a
-  regression guard of the quick numbers more than proof of the trend;
+- every UCS fails inside the schedule; Table 7.4's trend, T at failure higher at UCS 50 and 30
+  than at 76 MPa, is a strict xfail: with 20,000 (and 40,000) steps a level all three fail at
+  the same level, 1.0 MPa (with 5,000 the trend appeared, a step-budget artefact: docs);
 - Table 7.4's magnitude (strict xfail): T at failure 0.025 MPa at UCS 76;
-- weathering (strict xfail): more fracturing than the strength loss, and only the cut moving
-  on after the release.
+- weathering: the displaced boundary fractures more than the strength loss; only the cut
+  moving on after the release is a strict xfail.
 """
 import pytest
 
@@ -60,16 +60,25 @@ def test_the_window_stands_at_t_equal_to_c_before_t_is_lowered(quick):
     assert not [n for n in quick.notes if "before T was lowered" in n]
 
 
-def test_t_at_failure_rises_as_ucs_falls(quick):
-    """Table 7.4's trend: the slope fails at a higher T when UCS (so c and friction) is lower
-    than the weathered gneiss's own 76 MPa. Every UCS must fail inside the schedule (a T at
-    failure exists)."""
+def test_every_ucs_fails_as_t_is_lowered(quick):
+    """Thesis 7.6: lowering the weathered gneiss's T fails the cut at each UCS of Table 7.4
+    (a T at failure exists inside the schedule, 1.5 ... 0 MPa)."""
     rows = {r["ucs_MPa"]: r["t_failure_MPa"] for r in quick.methods["dem"]["back_analysis"]}
     assert all(t is not None for t in rows.values())
+
+
+@pytest.mark.xfail(strict=True, reason="measured (2026-11-27): with 20,000 and 40,000 steps a "
+                   "level the quick plan fails at T = 1.0 MPa at UCS 76, 50 and 30 alike: the "
+                   "trend is not resolved by the plan's levels (1.5, 1.0, ...); with 5,000 "
+                   "steps it appeared (0.35 / 1.0 / 1.0), a step-budget artefact")
+def test_t_at_failure_rises_as_ucs_falls(quick):
+    """Table 7.4's trend: the slope fails at a higher T when UCS (so c and friction) is lower
+    than the weathered gneiss's own 76 MPa."""
+    rows = {r["ucs_MPa"]: r["t_failure_MPa"] for r in quick.methods["dem"]["back_analysis"]}
     assert rows[50.0] > rows[76.0] and rows[30.0] > rows[76.0]
 
 
-@pytest.mark.xfail(strict=True, reason="measured: T at failure 0.35 MPa at UCS 76 (quick), 14 x "
+@pytest.mark.xfail(strict=True, reason="measured: T at failure 1.0 MPa at UCS 76 (quick), 40 x "
                    "the thesis's: rigid Voronoi blocks carry tension under their own weight "
                    "(1 % of contacts beyond 0.2 sv, 0.3 MPa at the weathered zone's base; "
                    "benchmarks/gravity_box.py) and at the joints' ends and the toe, so a T of "
@@ -93,9 +102,6 @@ def test_unsupported_slope_fails_supported_stands(quick):
     assert sup["unsupported"]["t_failure_MPa"] is not None
 
 
-@pytest.mark.xfail(strict=True, reason="measured: the T-schedule run at UCS 76 ends in a "
-                   "collapse of the cut (165 cracks through intact rock), the displaced one "
-                   "has 130: the comparison is with a failed slope, not with the thesis's")
 def test_weathering_boundary_fractures_more_than_strength_loss(quick):
     """Thesis 7.7.2: the constant-velocity boundary (1.85 m) fractures the weathered rock more
     than the tensile-strength degradation at the same UCS (76 MPa) does."""
