@@ -7,7 +7,9 @@ What is asserted is the thesis's chapter-6 findings that the quick resolution ca
 from them, not from our numbers:
 
 - displacement grows with mining (the field's cumulative record never decreases);
-- T = 1.0 MPa cracks less and moves less than T = 0.1 MPa (6.8.4), at every prism;
+- T = 1.0 MPa cracks less and moves less than T = 0.1 MPa (6.8.4): fewer cracks, and less
+  movement averaged over the four prisms (prism by prism the two differ by 1-4 %, and at SMP
+  560 and 468 the sign changes with the step budget: docs/cases/lornex.md);
 - the damage model moves more than the conventional model (flaws unbreakable) at the toe
   prism SMP 560 and fits the field better over all prisms (6.8.3, fig. 6.22);
 - the movement mode (6.8.1): the crest drops (normal scarps), the mid-slope rotates forward
@@ -47,11 +49,15 @@ def test_displacement_grows_with_mining(quick):
 
 
 def test_higher_tensile_strength_cracks_less_and_moves_less(quick):
-    """Thesis 6.8.4: T 1.0 MPa reduced the fracturing and the mining-induced displacement."""
+    """Thesis 6.8.4: T 1.0 MPa reduced the fracturing and the mining-induced displacement.
+    The displacement is the mean over the four prisms after the last block: prism by prism the
+    two runs differ by 1-4 % and two prisms change sign with the step budget (2 and 4 x the
+    steps a solve), while the mean and the cracks keep theirs (docs/cases/lornex.md)."""
     weak, strong = _runs(quick)["T=0.1 MPa"], _runs(quick)["T=1 MPa"]
     assert strong["cracks"] < weak["cracks"]
-    for k in lornex.PRISMS:
-        assert strong["cumulative_m"][k][-1] < weak["cumulative_m"][k][-1], k
+    moved = {run["label"]: np.mean([run["cumulative_m"][k][-1] for k in lornex.PRISMS])
+             for run in (weak, strong)}
+    assert moved[strong["label"]] < moved[weak["label"]], moved
 
 
 def test_damage_model_moves_more_and_fits_better_than_conventional(quick):
