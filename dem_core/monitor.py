@@ -16,11 +16,14 @@ than ``creep``); otherwise "moving".
 
 Early settling (``settle``, optional in ``Model.solve`` and the searches): a solve that has run
 two windows of ``SETTLE_WINDOW`` x its step limit stops as "settled" once the displacement grew
-by at most ``c / 2`` over the last window and at most ``c`` over the one before, with no new
-crack over both (``settled``); ``c`` is ``creep`` scaled from a fifth of the step limit (the end
-test's window) to the settling window, so the rates are the end test's (``settle_window``). At
-the step limit such a run would be judged "moving" unless it sped up again; the crack condition
-holds back a level where fracture is still spreading (issue 29 item 4; docs/performance.md,
+by at most ``c / 2`` over the last window and at most ``c`` over the one before, the last
+growth at most half the one before (plus ``c / 100``), and no new crack over both
+(``settled``); ``c`` is ``creep`` scaled from a fifth of the step limit (the end test's window)
+to the settling window, so the rates are the end test's (``settle_window``). A creep that at
+least halves from window to window has at most the last window's growth still to go (a
+geometric series), so the level stops within ``c / 2`` of the state it creeps towards; a steady
+creep, however slow, is not settled. The crack condition holds back a level where fracture is
+still spreading (issue 29 item 4; docs/performance.md,
 "Fewer steps to an answer").
 """
 from __future__ import annotations
@@ -184,5 +187,9 @@ def settled(steps, displacements, cracks, window, creep) -> bool:
     d = np.asarray(displacements, dtype=float)
     d1, d2 = np.interp([s[-1] - 2 * window, s[-1] - window], s, d)
     first = np.searchsorted(s, s[-1] - 2 * window, side="right") - 1   # the check at or before
-    return bool(d[-1] - d2 <= 0.5 * creep and d2 - d1 <= creep
+    last, before = d[-1] - d2, d2 - d1
+    # decaying: at least halving from window to window (a floor of a hundredth of the creep
+    # for a run that has all but stopped), so what is left of the creep is at most ``last``
+    return bool(last <= 0.5 * creep and before <= creep
+                and last <= 0.5 * before + 0.01 * creep
                 and cracks[-1] == cracks[max(first, 0)])

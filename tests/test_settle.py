@@ -28,6 +28,16 @@ def test_movement_above_half_the_creep_over_the_last_window_holds_it_back():
     assert not settled(STEPS, moving, [0] * 6, window=200, creep=2e-4)
 
 
+def test_a_steady_creep_below_the_rates_is_not_settled():
+    """0.8e-4 m per window, under half the creep over the last window and under the creep over
+    the one before, but not slowing down: it may creep on without end (a level of the Longtan
+    8 mm ramp settled so and the ramp ended 6 g above the answer of twice the step budget)."""
+    steady = [0.0, 0.4e-4, 0.8e-4, 1.2e-4, 1.6e-4, 2.0e-4]
+    assert not settled(STEPS, steady, [0] * 6, window=200, creep=2e-4)
+    halving = [0.0, 0.4e-4, 0.8e-4, 1.1e-4, 1.15e-4, 1.24e-4]   # 0.7e-4, then 0.14e-4
+    assert settled(STEPS, halving, [0] * 6, window=200, creep=2e-4)
+
+
 def test_a_run_shorter_than_two_windows_is_not_judged():
     assert not settled(STEPS[:4], QUIET[:4], [0] * 4, window=200, creep=2e-4)
 
