@@ -16,8 +16,9 @@ so a crash in one does not stop the rest:
                      rigid ones, 218 Voronoi blocks (about 1 min; docs/mechanics.md)
 - performance.py     throughput (1 and 2 threads), scaling, step profile, machine limit,
                      continuum s/iteration
-- two_threads.py     two threads against one, both shapes of the threaded step, and its
-                     parts (1e3 to 1e5 blocks, about 7 min; docs/performance.md)
+- two_threads.py     two threads against one, both shapes of the threaded step, its parts,
+                     and the machine's ceiling beside it (two serial copies in two processes,
+                     machine_threads.py; 1e3 to 1e5 blocks, about 5 min; docs/performance.md)
 - lab_resolution.py  error against run time of the lab case (UCS, shear peak: block size,
                      time-step safety)
 - centrifuge_resolution.py  Adhikary failure g against block size and run time (quick: 8, 6

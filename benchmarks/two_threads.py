@@ -11,7 +11,10 @@ so the threaded step takes its two-region shape: ``step.run_steps_threaded``). T
 order reversed every other round), so all see the same machine; many short rounds, because
 the host's second core comes and goes. Reported: ms per step (best and median of the rounds),
 the speed-ups (one-thread best / two-thread best) and whether the runs end in the same state
-bit for bit (they must). Then the threaded step's parts at each size, each the
+bit for bit (they must), and the machine's ceiling at that size: two serial copies in two
+processes against one (``machine_threads.ceiling``); once per run, the delay before a
+parallel region's second thread starts (``machine_threads.start_delay``). Then the threaded
+step's parts at each size, each the
 same numba kernel the step calls, run ``steps`` times inside one numba call (no Python
 between calls): the contact pass (``parallel.add_contact_forces_parallel``: chunks, crack
 log, shared blocks), damping and integration (``integration.advance_parallel``), gravity
@@ -147,11 +150,15 @@ def compare(n_blocks, rounds, steps, loops):
         row[f"ms_per_step_{k}_best"] = round(1e3 * min(times[k]), 4)
         row[f"ms_per_step_{k}_median"] = round(1e3 * statistics.median(times[k]), 4)
     for k, name in (("2", ""), ("2r", "_two_regions")):
+        row["speedup" + name + "_rounds"] = round(float(np.median(
+            np.array(times["1"]) / np.array(times[k]))), 3)     # each round's own ratio
         row["speedup" + name + "_best"] = round(min(times["1"]) / min(times[k]), 3)
         row["speedup" + name + "_median"] = round(statistics.median(times["1"])
                                                   / statistics.median(times[k]), 3)
     row["ns_per_update_1"] = round(1e9 * min(times["1"]) / one.contacts.n, 2)
     row.update(parts(models["2"], steps, loops))
+    from machine_threads import ceiling          # the machine's own two-core throughput
+    row.update(ceiling(n_blocks, rounds, steps))
     return row
 
 
@@ -159,7 +166,7 @@ def figure(rows, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(6, 4))
+    fig, ax = plt.subplots(figsize=(11, 5))
     b = [r["blocks"] for r in rows]
     ax.plot(b, [r["speedup_best"] for r in rows], "o-",
             label="whole step, gravity only: one region (best of rounds)")
@@ -172,13 +179,18 @@ def figure(rows, path):
     ax.plot(b, [(r["contacts_serial_ms"] + r["gravity_ms"] + r["advance_serial_ms"])
                 / r["one_region_ms"] for r in rows], "d--",
             label="one region (contacts, gravity, integration)")
+    ax.plot(b, [r["speedup_rounds"] for r in rows], "o-", color="tab:blue", alpha=0.45,
+            label="whole step, one region (median of each round's ratio)")
+    ax.plot(b, [r["two_copies"] for r in rows], "k^-",
+            label="two serial copies in two processes, the machine's ceiling (median of "
+                  "each round's ratio)")
     ax.axhline(1.7, color="k", lw=0.8, ls=":", label="goal 1.7x")
     ax.axhline(1.0, color="0.5", lw=0.8)
     ax.set_xscale("log")
     ax.set_xlabel("blocks (bonded Voronoi specimen)")
     ax.set_ylabel("speed-up, 2 threads / 1 thread")
     ax.set_title("Two threads against one, same run", fontsize=10)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
@@ -199,6 +211,9 @@ def main():
     sys.path.insert(0, HERE)
     from scenes import machine
     loops = _loops()
+    from machine_threads import start_delay
+    start = start_delay()
+    print(json.dumps(start), flush=True)
     rows = []
     for n in a.blocks:
         steps = STEPS.get(n, max(20, int(2e6 / n)))
@@ -209,7 +224,7 @@ def main():
     name = "two_threads" if a.layer == "default" else f"two_threads_{a.layer}"
     with open(os.path.join(a.out, name + ".json"), "w") as f:
         json.dump({"machine": machine(), "threading_layer": numba.threading_layer(),
-                   "rows": rows}, f, indent=1)
+                   "region_start": start, "rows": rows}, f, indent=1)
     figure(rows, os.path.join(a.out, name + ".png"))
 
 
