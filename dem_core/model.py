@@ -81,7 +81,10 @@ class Model:
         Threads for the contact forces and the integration (1: the serial kernels; more:
         ``dem_core.parallel`` and ``integration.advance_parallel``, bit-for-bit the same results,
         used from ``parallel.MIN_CONTACTS`` live contacts up: below that one thread is
-        faster). At most numba's thread count (the cores).
+        faster). At most numba's thread count (the cores). numba's TBB layer (its default
+        when installed) wakes its sleeping worker at every step, 40-90 us on a 2-core VM;
+        ``NUMBA_THREADING_LAYER=omp`` spins instead (2-3 us), but GNU OpenMP is not fork-safe:
+        not in a process that forks sweep workers afterwards (docs/performance.md).
     kinetic_damping : int
         Dynamic relaxation: every ``kinetic_damping`` steps (0: off) compare the kinetic energy
         with the last check and zero all free velocities when it has fallen (a kinetic-energy
