@@ -61,7 +61,7 @@ def test_the_window_stands_at_t_equal_to_c_before_t_is_lowered(quick):
 
 
 def test_every_ucs_fails_as_t_is_lowered(quick):
-    """Thesis 7.6: lowering the weathered gneiss's T fails the cut at each UCS of Table 7.4
+    """Thesis 7.7.1: lowering the weathered gneiss's T fails the cut at each UCS of Table 7.4
     (a T at failure exists inside the schedule, 1.5 ... 0 MPa)."""
     rows = {r["ucs_MPa"]: r["t_failure_MPa"] for r in quick.methods["dem"]["back_analysis"]}
     assert all(t is not None for t in rows.values())
