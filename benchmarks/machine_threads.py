@@ -56,6 +56,7 @@ def ceiling(n_blocks, rounds, steps) -> dict:
         a, b = ctx.Pipe()
         p = ctx.Process(target=_worker, args=(b, n_blocks))
         p.start()
+        b.close()                      # the child's end: a child that dies is then an EOFError
         pipes.append(a)
         procs.append(p)
     try:
@@ -70,7 +71,10 @@ def ceiling(n_blocks, rounds, steps) -> dict:
             pair.append(max(a.recv() for a in pipes))
     finally:
         for a in pipes:
-            a.send(None)
+            try:
+                a.send(None)
+            except OSError:            # that child is gone already
+                pass
         for p in procs:
             p.join()
     rounds_ratio = 2 * np.array(alone) / np.array(pair)     # each round's own pair of runs
