@@ -157,29 +157,32 @@ def history_figure(runs: list, points: tuple, scale: float = 1e-6, unit: str = "
     """Each run's watched points' displacement (mm) against its search parameter (divided by
     ``scale`` for the axis, in ``unit``), with the parameter's axis reversed when the search
     lowers it (a strength schedule reads left to right as the rock weakens); the failed level
-    of each run is marked with a cross."""
+    of each run is marked with a cross. A curve that coincides with a later run's (the same
+    levels, displacements within 1 % of the largest: the same answer) is drawn wider underneath
+    it, one rim per later run, so no run disappears behind another."""
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(8, 4.5))
     colours = plt.get_cmap("tab10" if len(runs) <= 10 else "tab20")
-    lowering = False
-    for i, r in enumerate(runs):
-        s = r.get("search")
-        if not s:
-            continue
-        lowering = lowering or s["kind"] == "strength_schedule"
-        for j, (p, style) in enumerate(zip(points, ("-o", ":s", "--^", "-.v"))):
-            rows = search_rows(r, p, component)
+    searched = [r for r in runs if r.get("search")]
+    lowering = any(r["search"]["kind"] == "strength_schedule" for r in searched)
+    for p, style in zip(points, ("-o", ":s", "--^", "-.v")):
+        curves = [search_rows(r, p, component) for r in searched]
+        curves = [c[np.argsort(c[:, 0])] for c in curves]
+        rims = _later_coincident(curves)
+        for i, (r, rows) in enumerate(zip(searched, curves)):
             if not len(rows):
                 continue
-            rows = rows[np.argsort(rows[:, 0])]
-            ax.plot(rows[:, 0] / scale, 1e3 * rows[:, 1], style, ms=3, color=colours(i),
+            s, colour = r["search"], colours(runs.index(r))
+            ax.plot(rows[:, 0] / scale, 1e3 * rows[:, 1], style, ms=3 + 2.5 * rims[i],
+                    lw=1.5 + 2.5 * rims[i], color=colour, zorder=2 + i,
                     label=f"{p}, {r['label']}")
             if s["failure"] is not None:
                 k = np.flatnonzero(np.asarray(s["level"]) == s["failure"])
                 if k.size:
                     ax.plot(s["failure"] / scale, 1e3 * s["point_" + component][p][k[0]],
-                            "x", ms=9, color=colours(i))
+                            "x", ms=9 + 4 * rims[i], mew=1.5 + 2 * rims[i], color=colour,
+                            zorder=2 + i)
     if lowering:
         ax.invert_xaxis()
     ax.set_xlabel(xlabel or f"search parameter ({unit}); x: first failed level")
@@ -188,3 +191,13 @@ def history_figure(runs: list, points: tuple, scale: float = 1e-6, unit: str = "
         ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.tight_layout()
     return fig
+
+
+def _later_coincident(curves: list) -> list:
+    """For each (n, 2) curve, how many later curves have the same levels and values within 1 %
+    of the largest value's magnitude (``history_figure``'s rims)."""
+    top = max([float(np.abs(c[:, 1]).max()) for c in curves if len(c)] + [0.0])
+    return [sum(1 for d in curves[i + 1:] if len(c) and d.shape == c.shape
+                and np.array_equal(d[:, 0], c[:, 0])
+                and np.allclose(d[:, 1], c[:, 1], rtol=0.0, atol=0.01 * top))
+            for i, c in enumerate(curves)]
