@@ -45,7 +45,8 @@ from dem_core.plot import block_picture
 from dem_core.scene import build_model
 from dem_core.stages import check_stages, run_stages
 
-__all__ = ["INTACT", "stage_run", "search_rows", "history_figure", "value_at_failure"]
+__all__ = ["INTACT", "stage_run", "search_rows", "history_figure", "coincident_rims",
+           "value_at_failure"]
 
 INTACT = ("flaw:", "boundary:")        # bonds through intact rock (not joints)
 _SEARCH_KEYS = ("search", "ramp")
@@ -169,7 +170,7 @@ def history_figure(runs: list, points: tuple, scale: float = 1e-6, unit: str = "
     for p, style in zip(points, ("-o", ":s", "--^", "-.v")):
         curves = [search_rows(r, p, component) for r in searched]
         curves = [c[np.argsort(c[:, 0])] for c in curves]
-        rims = _later_coincident(curves)
+        rims = coincident_rims(curves)
         for i, (r, rows) in enumerate(zip(searched, curves)):
             if not len(rows):
                 continue
@@ -193,9 +194,10 @@ def history_figure(runs: list, points: tuple, scale: float = 1e-6, unit: str = "
     return fig
 
 
-def _later_coincident(curves: list) -> list:
-    """For each (n, 2) curve, how many later curves have the same levels and values within 1 %
-    of the largest value's magnitude (``history_figure``'s rims)."""
+def coincident_rims(curves: list) -> list:
+    """For each (n, 2) curve (x, y rows), how many later curves have the same x and y within
+    1 % of the largest |y|: a figure draws a curve that wide underneath the later ones it
+    coincides with, so every run stays visible (``history_figure``)."""
     top = max([float(np.abs(c[:, 1]).max()) for c in curves if len(c)] + [0.0])
     return [sum(1 for d in curves[i + 1:] if len(c) and d.shape == c.shape
                 and np.array_equal(d[:, 0], c[:, 0])

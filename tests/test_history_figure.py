@@ -1,8 +1,10 @@
-"""``comparisons.staged.history_figure``: two runs with the same answer must both be seen."""
+"""The search and ramp figures (``staged.history_figure``, ``centrifuge.displacement_figure``):
+two runs with the same answer must both be seen."""
 import matplotlib
 
 matplotlib.use("Agg")
 
+from comparisons.centrifuge import displacement_figure  # noqa: E402
 from comparisons.staged import history_figure  # noqa: E402
 
 
@@ -33,3 +35,15 @@ def test_a_run_with_its_own_curve_gets_no_rim():
                          ("crest",))
     widths = {line.get_label(): line.get_linewidth() for line in fig.axes[0].get_lines()}
     assert widths["crest, friction 50"] == widths["crest, base"]
+
+
+def test_a_ramp_that_coincides_with_a_later_one_shows_as_a_wider_rim_beneath_it():
+    ramp = {"g": [40.0, 60.0, 80.0], "ux_A": [0.0023, 0.0030, 0.0059],
+            "ux_B": [0.0008, 0.0011, 0.0024]}
+    runs = [dict(ramp, label="T=1.1"), dict(ramp, label="bedding c 5 kPa"),
+            dict(ramp, label="T=0.8", ux_A=[0.0023, 0.0046, 0.0090])]
+    widths = {line.get_label(): line.get_linewidth()
+              for line in displacement_figure(runs).axes[0].get_lines()}
+    assert widths["A, T=1.1"] > widths["A, bedding c 5 kPa"] == widths["A, T=0.8"]
+    assert widths["B, T=1.1"] > widths["B, bedding c 5 kPa"]
+    assert widths["B, T=1.1"] > widths["B, T=0.8"]      # B of T=0.8 is B of the others too
