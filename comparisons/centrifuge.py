@@ -10,6 +10,7 @@ killed run goes on from its last level (``ramp_run``).
 """
 from __future__ import annotations
 
+import textwrap
 import time
 from pathlib import Path
 
@@ -239,7 +240,7 @@ def displacement_figure(runs: list, continuum: dict | None = None):
 
 
 def cracks_figure(scene, run: dict, rupture_line=None, title: str = "", reference_line=None):
-    """The failed slope: the run's blocks at the end of its ramp (displacement magnified, the
+    """The failed slope: the run's blocks at the end of its run (displacement magnified, the
     factor in the title, coloured by the true displacement in mm), the joints, the cracks
     (tension red, shear blue, along the broken bonds), its rupture surface and points A and B;
     ``reference_line`` (n, 2) m is drawn dashed (e.g. a thesis's rupture). A run without a
@@ -251,7 +252,7 @@ def cracks_figure(scene, run: dict, rupture_line=None, title: str = "", referenc
     if pic is not None:
         k = magnification(pic)
         draw_picture(pic, ax, k, rupture=rupture_line, unit="mm")
-        title += (f"\nblocks at the end of the ramp, displacement magnified x {k:g} "
+        title += (f"\nblocks at the end of the run, displacement drawn x {k:g} "
                   f"(colour: true displacement)")
     else:
         _crack_points(ax, scene, run, rupture_line)
@@ -262,7 +263,8 @@ def cracks_figure(scene, run: dict, rupture_line=None, title: str = "", referenc
         ax.plot(x, y, "k^")
         ax.annotate(name, (x, y), xytext=(4, 4), textcoords="offset points")
     ax.set_aspect("equal")
-    ax.set_title(title, fontsize=9)
+    # each line wrapped to the axes' width: a title wider than the axes ran under the colour bar
+    ax.set_title("\n".join(textwrap.fill(t, 80) for t in title.split("\n")), fontsize=9)
     if ax.get_legend_handles_labels()[0]:
         ax.legend(fontsize=7, loc="lower left")
     return fig
