@@ -33,7 +33,6 @@ from numba import njit
 from .contacts import ANCHOR_A, INTACT, UNBONDED, Contacts
 from .kinematics import body_point, contact_normal, unrotate
 from .components.boundary_points import deformed_points
-from .components.deformable import no_deformable
 from .rounding import is_rounded, no_rounding, rounded_contact
 
 __all__ = ["update_contacts", "compact", "block_containing", "world_vertices", "grid_pairs",
@@ -66,7 +65,7 @@ def _displacements(c, s, rows, rnd, dfm):
             xa, ya, nx, ny, gap = rounded_contact(rnd, s, a, b, c.vertex_a[k], c.edge_b[k])
             un[i] = gap
         else:
-            if dfm.point_offsets.shape[0] == 0:
+            if dfm is None:                # rigid blocks (numba drops the branch below)
                 xa, ya = body_point(s.pos, s.rot, a, c.point_a[k, 0], c.point_a[k, 1])
             else:                          # points moved by the zones (forces.contact_update)
                 xa, ya, xb, yb = deformed_points(k, c, s, dfm)
@@ -79,9 +78,13 @@ def _displacements(c, s, rows, rnd, dfm):
 def displacements(c: Contacts, s, rows, rnd=None, dfm=None):
     """(u_n, u_s) of contacts ``rows`` at the pose ``s`` (m; ``contacts.py`` geometry; with
     rounded corners ``rnd``, ``rounding.py``; with deformable blocks ``dfm``, the points the
-    zones have moved, ``components/deformable.py``), as ``forces.contact_update`` sees them."""
+    zones have moved, ``components/deformable.py``), as ``forces.contact_update`` sees them.
+    Without deformable blocks the kernel is called with ``dfm=None``, a signature of its own
+    that leaves the deformed points out (a rigid scene's first search compiles in 3.5 s
+    instead of 14 s)."""
     rnd = no_rounding() if rnd is None else rnd
-    dfm = no_deformable() if dfm is None else dfm
+    if dfm is not None and dfm.point_offsets.shape[0] == 0:
+        dfm = None
     return _displacements(c, s, np.asarray(rows, dtype=np.int64), rnd, dfm)
 
 

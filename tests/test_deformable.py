@@ -88,6 +88,24 @@ def test_rigid_blocks_are_bit_for_bit_the_rigid_model():
         assert np.array_equal(getattr(plain.state, name)[:2], getattr(zoned.state, name)[:2])
 
 
+def test_a_rigid_model_finds_contacts_without_the_deformed_points():
+    """``detection.displacements`` calls its kernel with ``dfm=None`` when no block is
+    deformable: a signature of its own that leaves the deformed points out (a first search
+    compiles in seconds, not tens of seconds); a deformable model at rest gives the same
+    numbers through the deformed points."""
+    from dem_core import detection
+    plain, zoned = two_stacks(False), two_stacks(True)
+    rows = np.arange(plain.contacts.n)
+    assert np.array_equal(plain.contacts.block_a[rows], zoned.contacts.block_a[rows])
+    un0, us0 = detection.displacements(plain.contacts, plain.state, rows, plain.corners,
+                                       plain.zone_state)
+    un1, us1 = detection.displacements(zoned.contacts, zoned.state, rows, zoned.corners,
+                                       zoned.zone_state)
+    assert np.array_equal(un0, un1) and np.array_equal(us0, us1)
+    assert {str(sig[-1]) == "none" for sig in detection._displacements.signatures} == {
+        True, False}
+
+
 def test_column_settles_by_rho_g_h2_over_2_e_prime():
     E, nu = 1e7, 0.25
     m = column(E, nu, damping=0.8)
