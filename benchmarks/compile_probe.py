@@ -10,6 +10,12 @@ session each process (each pytest-xdist worker, named by ``PYTEST_XDIST_WORKER``
 ``$COMPILE_PROBE_OUT.<worker>`` (default ``benchmarks/results/compiles.json.<worker>``).
 A signature compiled twice shows as two records of one name (docs/performance.md, "The test
 suite's time").
+
+    python benchmarks/compile_probe.py FILE...     # a table of the records
+
+prints, per file (worker), the seconds of its first compiles called from Python (depth 0)
+and the kernels that took longest, with the nested ones they include and the test that
+compiled them.
 """
 from __future__ import annotations
 
@@ -49,3 +55,25 @@ def pytest_sessionfinish(session):
     out = Path(os.environ.get("COMPILE_PROBE_OUT", default))
     worker = os.environ.get("PYTEST_XDIST_WORKER", "main")
     out.with_name(f"{out.name}.{worker}").write_text(json.dumps(_records, indent=0))
+
+
+def summary(paths, top=15) -> str:
+    """The table of ``python benchmarks/compile_probe.py FILE...`` (module docstring)."""
+    lines = []
+    for path in paths:
+        records = json.loads(Path(path).read_text())
+        entry = [r for r in records if r["depth"] == 0]
+        lines.append(f"{path}: {len(records)} compiles, "
+                     f"{sum(r['seconds'] for r in entry):.1f} s called from Python")
+        for r in sorted(records, key=lambda r: -r["seconds"])[:top]:
+            test = (r["test"] or "").split("::")[0]
+            lines.append(f"  {r['seconds']:7.1f} s  depth {r['depth']}  {r['name']}  [{test}]")
+    return "\n".join(lines)
+
+
+if __name__ == "__main__":
+    import sys
+
+    if len(sys.argv) < 2:
+        sys.exit("usage: python benchmarks/compile_probe.py FILE...")
+    print(summary(sys.argv[1:]))
