@@ -165,16 +165,16 @@ def history_figure(runs: list, points: tuple, scale: float = 1e-6, unit: str = "
 
     fig, ax = plt.subplots(figsize=(8, 4.5))
     colours = plt.get_cmap("tab10" if len(runs) <= 10 else "tab20")
-    searched = [r for r in runs if r.get("search")]
-    lowering = any(r["search"]["kind"] == "strength_schedule" for r in searched)
+    searched = [(n, r) for n, r in enumerate(runs) if r.get("search")]   # n: the colour
+    lowering = any(r["search"]["kind"] == "strength_schedule" for _, r in searched)
     for p, style in zip(points, ("-o", ":s", "--^", "-.v")):
-        curves = [search_rows(r, p, component) for r in searched]
+        curves = [search_rows(r, p, component) for _, r in searched]
         curves = [c[np.argsort(c[:, 0])] for c in curves]
         rims = coincident_rims(curves)
-        for i, (r, rows) in enumerate(zip(searched, curves)):
+        for i, ((n, r), rows) in enumerate(zip(searched, curves)):
             if not len(rows):
                 continue
-            s, colour = r["search"], colours(runs.index(r))
+            s, colour = r["search"], colours(n)
             ax.plot(rows[:, 0] / scale, 1e3 * rows[:, 1], style, ms=3 + 2.5 * rims[i],
                     lw=1.5 + 2.5 * rims[i], color=colour, zorder=2 + i,
                     label=f"{p}, {r['label']}")

@@ -80,7 +80,7 @@ def displacements(c: Contacts, s, rows, rnd=None, dfm=None):
     rounded corners ``rnd``, ``rounding.py``; with deformable blocks ``dfm``, the points the
     zones have moved, ``components/deformable.py``), as ``forces.contact_update`` sees them.
     Without deformable blocks the kernel is called with ``dfm=None``, a signature of its own
-    that leaves the deformed points out (a rigid scene's first search compiles in 3.5 s
+    that leaves the deformed points out (a rigid scene's first search compiles in about 4 s
     instead of 14 s)."""
     rnd = no_rounding() if rnd is None else rnd
     if dfm is not None and dfm.point_offsets.shape[0] == 0:
