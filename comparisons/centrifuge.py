@@ -214,21 +214,20 @@ def displacement_rows(run: dict) -> np.ndarray:
 def displacement_figure(runs: list, continuum: dict | None = None):
     """Horizontal displacement of points A and B against g for each run (and the continuum);
     levels are drawn in order of g (a bisected ramp runs them out of order). A run whose curve
-    coincides with a later run's is drawn wider underneath it (``staged.coincident_rims``)."""
+    coincides with a later run's is drawn wider underneath it (``staged.curve_styles``)."""
     import matplotlib.pyplot as plt
 
-    from comparisons.staged import coincident_rims
+    from comparisons.staged import curve_styles
 
     fig, ax = plt.subplots(figsize=(8, 4.5))
     # one colour per run (A solid, B dotted): the default cycle repeats after ten runs
     colours = plt.get_cmap("tab10" if len(runs) <= 10 else "tab20")
     rows = [displacement_rows(r) for r in runs]
     for col, point, style in ((1, "A", "-o"), (2, "B", ":s")):
-        rims = coincident_rims([d[:, [0, col]] for d in rows])
-        for i, (r, d) in enumerate(zip(runs, rows)):
-            ax.plot(d[:, 0], 1e3 * d[:, col], style, ms=3 + 2.5 * rims[i],
-                    lw=1.5 + 2.5 * rims[i], color=colours(i), zorder=2 + i,
-                    label=f"{point}, {r['label']}")
+        lines = curve_styles([d[:, [0, col]] for d in rows])
+        for i, (r, d, line) in enumerate(zip(runs, rows, lines)):
+            ax.plot(d[:, 0], 1e3 * d[:, col], style, color=colours(i),
+                    label=f"{point}, {r['label']}", **line)
     if continuum is not None and len(continuum.get("g", [])):
         ax.plot(continuum["g"], 1e3 * np.asarray(continuum["ux_A"]), "k--",
                 label="A, continuum")

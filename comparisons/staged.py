@@ -46,7 +46,7 @@ from dem_core.scene import build_model
 from dem_core.stages import check_stages, run_stages
 
 __all__ = ["INTACT", "stage_run", "search_rows", "history_figure", "coincident_rims",
-           "value_at_failure"]
+           "curve_styles", "value_at_failure"]
 
 INTACT = ("flaw:", "boundary:")        # bonds through intact rock (not joints)
 _SEARCH_KEYS = ("search", "ramp")
@@ -170,20 +170,18 @@ def history_figure(runs: list, points: tuple, scale: float = 1e-6, unit: str = "
     for p, style in zip(points, ("-o", ":s", "--^", "-.v")):
         curves = [search_rows(r, p, component) for _, r in searched]
         curves = [c[np.argsort(c[:, 0])] for c in curves]
-        rims = coincident_rims(curves)
-        for i, ((n, r), rows) in enumerate(zip(searched, curves)):
+        for (n, r), rows, line in zip(searched, curves, curve_styles(curves)):
             if not len(rows):
                 continue
             s, colour = r["search"], colours(n)
-            ax.plot(rows[:, 0] / scale, 1e3 * rows[:, 1], style, ms=3 + 2.5 * rims[i],
-                    lw=1.5 + 2.5 * rims[i], color=colour, zorder=2 + i,
-                    label=f"{p}, {r['label']}")
+            ax.plot(rows[:, 0] / scale, 1e3 * rows[:, 1], style, color=colour,
+                    label=f"{p}, {r['label']}", **line)
             if s["failure"] is not None:
                 k = np.flatnonzero(np.asarray(s["level"]) == s["failure"])
-                if k.size:
+                if k.size:              # the cross as wide as its curve's rims
                     ax.plot(s["failure"] / scale, 1e3 * s["point_" + component][p][k[0]],
-                            "x", ms=9 + 4 * rims[i], mew=1.5 + 2 * rims[i], color=colour,
-                            zorder=2 + i)
+                            "x", ms=9 + 1.6 * (line["ms"] - 3), mew=1.5 + 0.8 * (line["lw"] - 1.5),
+                            color=colour, zorder=line["zorder"])
     if lowering:
         ax.invert_xaxis()
     ax.set_xlabel(xlabel or f"search parameter ({unit}); x: first failed level")
@@ -203,3 +201,10 @@ def coincident_rims(curves: list) -> list:
                 and np.array_equal(d[:, 0], c[:, 0])
                 and np.allclose(d[:, 1], c[:, 1], rtol=0.0, atol=0.01 * top))
             for i, c in enumerate(curves)]
+
+
+def curve_styles(curves: list) -> list:
+    """matplotlib line options (marker size, line width, z-order) for each run's curve, in
+    drawing order: one rim wider per later curve it coincides with (``coincident_rims``)."""
+    return [dict(ms=3 + 2.5 * rim, lw=1.5 + 2.5 * rim, zorder=2 + i)
+            for i, rim in enumerate(coincident_rims(curves))]
