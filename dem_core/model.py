@@ -29,7 +29,7 @@ from .contacts import initial_contacts, split_edges, surface_materials
 from .elastic import series_stiffness
 from .jit_cache import compiled
 from .materials import Material, material_table
-from . import parallel
+from . import parallel, region
 from .parallel import no_parallel, parallel_bundle
 from .rounding import rounding_bundle
 from .water import WaterTable
@@ -80,9 +80,11 @@ class Model:
     threads : int
         Threads for the contact forces and the integration (1: the serial kernels; more:
         ``dem_core.parallel`` and ``integration.advance_parallel``, bit-for-bit the same results,
-        used from ``parallel.MIN_CONTACTS`` live contacts up: below that one thread is
+        used from ``region.MIN_CONTACTS`` live contacts up when gravity is the only force
+        besides the contacts' (the steps of a call in one parallel region), from
+        ``parallel.MIN_CONTACTS`` otherwise (a region a step): below that one thread is
         faster). At most numba's thread count (the cores). numba's TBB layer (its default
-        when installed) wakes its sleeping worker at every step, 40-90 us on a 2-core VM;
+        when installed) wakes its sleeping worker at every region, 40-90 us on a 2-core VM;
         ``NUMBA_THREADING_LAYER=omp`` spins instead (2-3 us), but GNU OpenMP is not fork-safe:
         not in a process that forks sweep workers afterwards (docs/performance.md).
     kinetic_damping : int
@@ -741,9 +743,15 @@ class Model:
                              self.water_faces), self.cables, self.liners,
                 servo_bundle(self.servo_groups))
 
-    def _parallel(self):
-        """Scratch and the block -> contact table for the threaded kernel (empty: serial)."""
-        if self.threads <= 1 or self.contacts.n < parallel.MIN_CONTACTS:
+    def _parallel(self, parts):
+        """Scratch and the block -> contact table for the threaded kernel (empty: serial);
+        ``parts`` the component bundles and the zones (``_run``)."""
+        if self.threads <= 1:
+            return no_parallel()
+        # the one-region step (gravity the only other force) pays from fewer contacts
+        fewest = (region.MIN_CONTACTS if stepper.only_gravity(*parts[1:])
+                  else parallel.MIN_CONTACTS)
+        if self.contacts.n < fewest:
             return no_parallel()
         import numba
         numba.set_num_threads(self.threads)
@@ -758,10 +766,10 @@ class Model:
     def _run(self, n):
         support.set_controls(self)
         self.zone_state.control[:] = (self.dt, self.damping, *self.gravity)
-        par = self._parallel()
         blocks = (self.state, self.props, self.contacts, self.table.strength_array(),
                   self.cracks, self.corners)
         parts = (*self._components(), self.zone_state)
+        par = self._parallel(parts)
         if par.offsets.shape[0] == 0:
             kernel, args = stepper.run_steps, (n, self.time, self._integrator(), *blocks, *parts)
         else:

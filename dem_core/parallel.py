@@ -26,24 +26,22 @@ chunk, before it. For a shared block, the chunk computes it when the partner lie
 chunk (kept in ``Parallel.edge_work``); otherwise both blocks have contacts in two chunks, so
 both are shared, and the serial pass computes it after all contacts are updated.
 
-When gravity is the only other force, the whole step is one region
-(``contacts_and_advance_parallel``): an owned block's force is complete when its chunk's
-contacts are done, and no other chunk reads it, so the chunk's thread adds its gravity and
-moves it there; the shared blocks follow after the region. That is why the shared pass never
-reads an owned block's pose: it may already have moved.
+When gravity is the only other force, each step is one pass of the threads (``region``, which
+also keeps the threads in one region for many steps): an owned block's force is complete when
+its chunk's contacts are done, and no other chunk reads it, so the chunk's thread adds its
+gravity and moves it there; the shared blocks follow in the serial part of the step. That is
+why the shared pass never reads an owned block's pose: it may already have moved.
 """
 from __future__ import annotations
 
 import numpy as np
 from numba import njit, prange
 
-from .components.gravity import add_gravity_to
 from .forces import chunk_forces, edge_correction, log_crack
-from .integration import advance_range, merge_status
 from .state import Parallel, no_parallel
 
-__all__ = ["Parallel", "contact_table", "add_contact_forces_parallel",
-           "contacts_and_advance_parallel", "no_parallel", "parallel_bundle", "chunk_owners"]
+__all__ = ["Parallel", "contact_table", "add_contact_forces_parallel", "no_parallel",
+           "parallel_bundle", "chunk_owners"]
 
 
 def parallel_bundle(c, nb, threads, edges=False) -> Parallel:
@@ -114,10 +112,11 @@ def contact_table(nc, block_a, block_b, nb, blocks):
     return count, entries
 
 
-# below this many live contacts ``Model(threads=n)`` runs the serial kernels (same results):
-# starting a parallel region costs more than a second core gives there. Two threads against
-# one, both shapes of the step, 2-core VM (benchmarks/two_threads.py, docs/performance.md):
-# 0.88x at 6,020 contacts, 1.04-1.19x at 12,106, 1.20-1.42x at 18,328
+# below this many live contacts ``Model(threads=n)`` runs the serial kernels (same results)
+# when the step takes a region a step (a force besides gravity and the contacts'): starting a
+# region costs more than a second core gives there. Two threads against one, 2-core VM
+# (benchmarks/two_threads.py, docs/performance.md): 0.88x at 6,020 contacts, 1.04-1.19x at
+# 12,106, 1.20-1.42x at 18,328. The one-region step's threshold: ``region.MIN_CONTACTS``
 MIN_CONTACTS = 15_000
 
 
@@ -138,46 +137,6 @@ def add_contact_forces_parallel(c, strength, s, cracks, time, rnd, par, edges, d
         failures[j] = chunk_forces(c, strength, s, rnd, dfm, par, edges, j, cracks, time)
     _log_failures(c, cracks, time, par)
     _shared_forces(c, s, par, edges)
-
-
-@njit(cache=True, parallel=True)
-def contacts_and_advance_parallel(c, strength, s, p, cracks, time, rnd, par, integ, gravity,
-                                  dfm, kick):
-    """A whole step but kinetic damping, in one parallel region, for a scene whose only force
-    besides the contacts' is gravity (``step.run_steps_threaded``); returns (status, block) as
-    ``integration.advance``.
-
-    Each chunk, once its contacts are done, adds gravity (m g) to its owned blocks and moves
-    them (``integration.advance_range``): their forces are complete, and no other chunk's
-    contact reads them. After the region: the crack log, the shared blocks' forces, their
-    gravity and their moves. Each block sums the same numbers in the same order as the serial
-    step (contacts in contact order, then gravity) and moves by the same arithmetic, so the
-    results are bit for bit the serial ones; only an unstable block differs (the other chunks'
-    blocks have moved, the run stops there). ``kick`` (s): the velocity update's time."""
-    # a local name: written as par.failures[j] inside the prange, the writes were lost
-    # (numba 0.68.1; docs/history.md)
-    failures, chunks = par.failures, par.first.shape[0] - 1
-    nb = s.pos.shape[0]
-    first_unstable, last_search = nb, -1
-    for jp in prange(chunks):
-        j = np.int64(jp)                         # (add_contact_forces_parallel: why)
-        failures[j] = chunk_forces(c, strength, s, rnd, dfm, par, integ.edge_elements, j,
-                                   cracks, time)
-        r0, r1 = par.own_offsets[j], par.own_offsets[j + 1]
-        add_gravity_to(gravity, s, p, par.own_blocks, r0, r1)
-        u, n = advance_range(s, p, integ, kick, r0, r1, par.own_blocks)
-        if u >= 0:
-            first_unstable = min(first_unstable, u)
-        last_search = max(last_search, n)
-    _log_failures(c, cracks, time, par)
-    _shared_forces(c, s, par, integ.edge_elements)
-    ns = par.shared.shape[0]
-    add_gravity_to(gravity, s, p, par.shared, 0, ns)
-    if first_unstable == nb:
-        unstable, search = advance_range(s, p, integ, kick, 0, ns, par.shared)
-        first_unstable = unstable if unstable >= 0 else nb
-        last_search = max(last_search, search)
-    return merge_status(first_unstable, last_search, nb)
 
 
 @njit(cache=True)

@@ -36,16 +36,7 @@ runs the same step, the same numbers for every block, bit for bit, in one of two
 Velocities live at half steps (t - dt/2, t + dt/2), positions at whole steps. With alpha = 0 the
 scheme is symplectic: energy oscillates by O((omega dt)^2) and does not drift.
 
-Kinetic damping (dynamic relaxation, ``Integrator.kinetic_interval`` > 0): every that many steps
-the kinetic energy of the free velocity components (inertial masses) is compared with the last
-check; when it has fallen, the model has just passed a kinetic-energy peak, i.e. its lowest
-active mode is near its static position, and every free velocity is set to zero. The motion
-restarts as leapfrog starts from rest: the first velocity update after the stop is half a step
-(v = a dt/2), which makes the stopped position a turning point of every mode (a plain v = 0
-restart starts each fast mode with its amplitude divided by cos(omega dt/2): docs/history.md).
-The interval must stay well below a quarter of the slowest period; local damping converges a
-slender model's lowest bending mode only over many of its periods, kinetic damping within a few
-quarter periods. Prescribed velocities are kept.
+Kinetic damping (dynamic relaxation) is in ``relaxation``.
 
 Run status codes: 0 done, 1 a block moved more than half the search margin since the last
 contact search (the driver searches and continues), 2 unstable (NaN, or a block moving more than
@@ -57,12 +48,14 @@ import numpy as np
 from numba import njit
 
 from .components import add_cables, add_gravity, add_liners, add_loads, add_water, servo_velocities
-from .components.deformable import add_deformable, zone_kinetic_energy
+from .components.deformable import add_deformable
 from .forces import add_contact_forces
 from .integration import (DONE, MIN_THREADED_BLOCKS, NEED_SEARCH, UNSTABLE, advance,
                           advance_parallel)
 from .kinematics import body_point
-from .parallel import add_contact_forces_parallel, contacts_and_advance_parallel
+from .parallel import add_contact_forces_parallel
+from .region import run_steps_region
+from .relaxation import end_step, free_kinetic_energy, next_kick, stop_free_motion
 
 __all__ = ["run_steps", "run_steps_threaded", "frequency_bound", "free_kinetic_energy",
            "stop_free_motion", "advance", "advance_parallel", "only_gravity", "DONE",
@@ -105,21 +98,18 @@ def run_steps_threaded(nsteps, time, integ, s, p, c, strength, cracks, rnd, par,
     other bundles empty), the step is one parallel region
     (``parallel.contacts_and_advance_parallel``); otherwise the contact pass is one region and
     the integration another (from ``MIN_THREADED_BLOCKS`` blocks up)."""
-    one_region = only_gravity(loads, water, cables, liners, servo, dfm)
+    if only_gravity(loads, water, cables, liners, servo, dfm):
+        return run_steps_region(nsteps, time, integ, s, p, c, strength, cracks, rnd, par,
+                                gravity, dfm)
     for step in range(nsteps):
-        if one_region:
-            kick = next_kick(integ)
-            status, bad = contacts_and_advance_parallel(c, strength, s, p, cracks, time, rnd,
-                                                        par, integ, gravity, dfm, kick)
+        add_contact_forces_parallel(c, strength, s, cracks, time, rnd, par,  # (zeroes f)
+                                    integ.edge_elements, dfm)
+        kick = add_other_forces(integ, s, p, c, gravity, loads, water, cables, liners, servo,
+                                dfm)
+        if s.pos.shape[0] < MIN_THREADED_BLOCKS:
+            status, bad = advance(s, p, integ, kick)
         else:
-            add_contact_forces_parallel(c, strength, s, cracks, time, rnd, par,  # (zeroes f)
-                                        integ.edge_elements, dfm)
-            kick = add_other_forces(integ, s, p, c, gravity, loads, water, cables, liners,
-                                    servo, dfm)
-            if s.pos.shape[0] < MIN_THREADED_BLOCKS:
-                status, bad = advance(s, p, integ, kick)
-            else:
-                status, bad = advance_parallel(s, p, integ, kick)
+            status, bad = advance_parallel(s, p, integ, kick)
         if status == UNSTABLE:
             return step, time, UNSTABLE, bad
         time += integ.dt
@@ -140,15 +130,6 @@ def only_gravity(loads, water, cables, liners, servo, dfm):
 
 
 @njit(cache=True)
-def next_kick(integ):
-    """The time (s) of this step's velocity update: ``dt``, or ``dt / 2`` on the first step
-    after a kinetic-damping stop (which this clears)."""
-    kick = 0.5 * integ.dt if integ.kinetic[2] != 0.0 else integ.dt
-    integ.kinetic[2] = 0.0
-    return kick
-
-
-@njit(cache=True)
 def add_other_forces(integ, s, p, c, gravity, loads, water, cables, liners, servo, dfm):
     """Every force but the contacts', the servos, and the deformable blocks' zones (which move
     here); returns the time of this step's velocity kick (s): ``dt``, or ``dt / 2`` on the
@@ -162,66 +143,6 @@ def add_other_forces(integ, s, p, c, gravity, loads, water, cables, liners, serv
     kick = next_kick(integ)
     add_deformable(dfm, c, s, p, kick)
     return kick
-
-
-@njit(cache=True)
-def end_step(integ, s, p, dfm):
-    """Kinetic damping after the blocks moved (a stop also stops the zones)."""
-    kinetic_damping(integ, s, p, dfm)
-    if integ.kinetic[2] != 0.0:
-        dfm.v[:] = 0.0
-
-
-@njit(cache=True)
-def kinetic_damping(integ, s, p, dfm):
-    """Every ``kinetic_interval`` steps: stop all free motion after a kinetic-energy peak
-    (the blocks' and the deformable blocks' gridpoints')."""
-    if integ.kinetic_interval <= 0:
-        return
-    k = integ.kinetic
-    k[1] += 1.0
-    if k[1] < integ.kinetic_interval:
-        return
-    k[1] = 0.0
-    ke = free_kinetic_energy(s, p) + zone_kinetic_energy(dfm, p.active)
-    if ke < k[0]:
-        stop_free_motion(s, p)
-        ke = 0.0
-        k[2] = 1.0          # restart from rest: half a kick next step
-    k[0] = ke
-
-
-@njit(cache=True)
-def free_kinetic_energy(s, p):
-    """1/2 sum m v^2 + I w^2 over free velocity components, inertial (scaled) masses, J/m."""
-    ke = 0.0
-    for i in range(s.vel.shape[0]):
-        if not p.active[i]:
-            continue
-        fx = p.fixity[i]
-        if p.inv_mass[i] > 0.0:
-            if not fx & 1:
-                ke += s.vel[i, 0] * s.vel[i, 0] / p.inv_mass[i]
-            if not fx & 2:
-                ke += s.vel[i, 1] * s.vel[i, 1] / p.inv_mass[i]
-        if p.inv_inertia[i] > 0.0 and not fx & 4:
-            ke += s.omega[i] * s.omega[i] / p.inv_inertia[i]
-    return 0.5 * ke
-
-
-@njit(cache=True)
-def stop_free_motion(s, p):
-    """Zero every free velocity component (prescribed ones keep their value)."""
-    for i in range(s.vel.shape[0]):
-        if not p.active[i]:
-            continue
-        fx = p.fixity[i]
-        if not fx & 1:
-            s.vel[i, 0] = 0.0
-        if not fx & 2:
-            s.vel[i, 1] = 0.0
-        if not fx & 4:
-            s.omega[i] = 0.0
 
 
 @njit(cache=True)

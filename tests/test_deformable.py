@@ -230,6 +230,7 @@ def test_deformable_voronoi_specimen_threaded_is_bit_for_bit_serial(monkeypatch)
     from dem_core.geometry import GeometrySpec, Voronoi, build_block_system, rectangle
 
     monkeypatch.setattr("dem_core.parallel.MIN_CONTACTS", 0)
+    monkeypatch.setattr("dem_core.region.MIN_CONTACTS", 0)
     bs = build_block_system(GeometrySpec(
         [rectangle("rock", 0, 0, 0.1, 0.05), rectangle("base", 0, -0.01, 0.1, 0)],
         voronoi={"rock": Voronoi(edge_length=0.006, seed=2)}))

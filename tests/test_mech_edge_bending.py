@@ -45,6 +45,7 @@ def test_a_bonded_edge_breaks_at_the_elastic_moment(factor, breaks):
 
 def test_the_threaded_kernel_gives_the_same_bits_with_edge_elements(monkeypatch):
     monkeypatch.setattr("dem_core.parallel.MIN_CONTACTS", 0)     # a small model, threaded
+    monkeypatch.setattr("dem_core.region.MIN_CONTACTS", 0)
     a, b = pair(1), pair(2)
     for m in (a, b):
         m.apply_load("free", fx=1e3, moment=0.3 * T * L ** 2 / 6)

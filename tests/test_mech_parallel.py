@@ -30,6 +30,7 @@ def _run(threads, edges=False, load=False, rounding=0.0):
                                                    (True, True, 0.0), (False, False, 2e-4)])
 def test_threaded_kernel_is_bit_for_bit_serial(monkeypatch, edges, load, rounding):
     monkeypatch.setattr("dem_core.parallel.MIN_CONTACTS", 0)     # a small model, threaded
+    monkeypatch.setattr("dem_core.region.MIN_CONTACTS", 0)
     serial = _run(1, edges, load, rounding)
     threaded = _run(2, edges, load, rounding)
     assert serial.crack_counts()["tension"] + serial.crack_counts()["shear"] > 0
@@ -91,6 +92,7 @@ def test_an_unstable_threaded_step_is_reported(monkeypatch, load):
     an unstable block, as the serial step does."""
     from dem_core.model import ModelUnstable
     monkeypatch.setattr("dem_core.parallel.MIN_CONTACTS", 0)
+    monkeypatch.setattr("dem_core.region.MIN_CONTACTS", 0)
     bs = build_block_system(GeometrySpec(
         [rectangle("rock", 0, 0, 0.1, 0.05), rectangle("base", 0, -0.01, 0.1, 0)],
         voronoi={"rock": Voronoi(edge_length=0.006, seed=2)}))

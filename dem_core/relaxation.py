@@ -1,0 +1,89 @@
+"""Kinetic damping (dynamic relaxation) and the kick of the step after a stop.
+
+Kinetic damping (dynamic relaxation, ``Integrator.kinetic_interval`` > 0): every that many steps
+the kinetic energy of the free velocity components (inertial masses) is compared with the last
+check; when it has fallen, the model has just passed a kinetic-energy peak, i.e. its lowest
+active mode is near its static position, and every free velocity is set to zero. The motion
+restarts as leapfrog starts from rest: the first velocity update after the stop is half a step
+(v = a dt/2), which makes the stopped position a turning point of every mode (a plain v = 0
+restart starts each fast mode with its amplitude divided by cos(omega dt/2): docs/history.md).
+The interval must stay well below a quarter of the slowest period; local damping converges a
+slender model's lowest bending mode only over many of its periods, kinetic damping within a few
+quarter periods. Prescribed velocities are kept.
+"""
+from __future__ import annotations
+
+from numba import njit
+
+from .components.deformable import zone_kinetic_energy
+
+__all__ = ["next_kick", "end_step", "kinetic_damping", "free_kinetic_energy", "stop_free_motion"]
+
+
+@njit(cache=True)
+def next_kick(integ):
+    """The time (s) of this step's velocity update: ``dt``, or ``dt / 2`` on the first step
+    after a kinetic-damping stop (which this clears)."""
+    kick = 0.5 * integ.dt if integ.kinetic[2] != 0.0 else integ.dt
+    integ.kinetic[2] = 0.0
+    return kick
+
+
+@njit(cache=True)
+def end_step(integ, s, p, dfm):
+    """Kinetic damping after the blocks moved (a stop also stops the zones)."""
+    kinetic_damping(integ, s, p, dfm)
+    if integ.kinetic[2] != 0.0:
+        dfm.v[:] = 0.0
+
+
+@njit(cache=True)
+def kinetic_damping(integ, s, p, dfm):
+    """Every ``kinetic_interval`` steps: stop all free motion after a kinetic-energy peak
+    (the blocks' and the deformable blocks' gridpoints')."""
+    if integ.kinetic_interval <= 0:
+        return
+    k = integ.kinetic
+    k[1] += 1.0
+    if k[1] < integ.kinetic_interval:
+        return
+    k[1] = 0.0
+    ke = free_kinetic_energy(s, p) + zone_kinetic_energy(dfm, p.active)
+    if ke < k[0]:
+        stop_free_motion(s, p)
+        ke = 0.0
+        k[2] = 1.0          # restart from rest: half a kick next step
+    k[0] = ke
+
+
+@njit(cache=True)
+def free_kinetic_energy(s, p):
+    """1/2 sum m v^2 + I w^2 over free velocity components, inertial (scaled) masses, J/m."""
+    ke = 0.0
+    for i in range(s.vel.shape[0]):
+        if not p.active[i]:
+            continue
+        fx = p.fixity[i]
+        if p.inv_mass[i] > 0.0:
+            if not fx & 1:
+                ke += s.vel[i, 0] * s.vel[i, 0] / p.inv_mass[i]
+            if not fx & 2:
+                ke += s.vel[i, 1] * s.vel[i, 1] / p.inv_mass[i]
+        if p.inv_inertia[i] > 0.0 and not fx & 4:
+            ke += s.omega[i] * s.omega[i] / p.inv_inertia[i]
+    return 0.5 * ke
+
+
+@njit(cache=True)
+def stop_free_motion(s, p):
+    """Zero every free velocity component (prescribed ones keep their value)."""
+    for i in range(s.vel.shape[0]):
+        if not p.active[i]:
+            continue
+        fx = p.fixity[i]
+        if not fx & 1:
+            s.vel[i, 0] = 0.0
+        if not fx & 2:
+            s.vel[i, 1] = 0.0
+        if not fx & 4:
+            s.omega[i] = 0.0
