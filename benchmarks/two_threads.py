@@ -19,7 +19,7 @@ same numba kernel the step calls, run ``steps`` times inside one numba call (no 
 between calls): the contact pass (``parallel.add_contact_forces_parallel``: chunks, crack
 log, shared blocks), damping and integration (``integration.advance_parallel``), gravity
 (``components.add_gravity``), against the serial kernels, and the threaded step's one
-region when gravity is the only other force (``parallel.contacts_and_advance_parallel``:
+region when gravity is the only other force (``region.run_steps_region``, many steps:
 contacts, gravity and integration). Writes
 ``benchmarks/results/two_threads.json`` and ``two_threads.png``.
 """

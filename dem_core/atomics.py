@@ -18,11 +18,12 @@ array; ``i`` is not bounds-checked.
 """
 from __future__ import annotations
 
+from llvmlite import ir
 from numba import types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
-__all__ = ["fetch_add", "compare_exchange", "load_acquire", "store_release"]
+__all__ = ["fetch_add", "compare_exchange", "load_acquire", "store_release", "yield_cpu"]
 
 
 def _pointer(context, builder, sig, args):
@@ -79,3 +80,15 @@ def store_release(typingctx, arr, idx, val):
         builder.store_atomic(v, _pointer(context, builder, sig, args), "release", 8)
         return context.get_dummy_value()
     return types.none(arr, idx, val), codegen
+
+
+@intrinsic
+def yield_cpu(typingctx):
+    """``sched_yield()`` (POSIX): give the core to another runnable thread, if any. For a
+    spinning thread whose partner may be waiting for a core (more threads than cores)."""
+    def codegen(context, builder, sig, args):
+        fnty = ir.FunctionType(ir.IntType(32), [])
+        fn = cgutils.get_or_insert_function(builder.module, fnty, "sched_yield")
+        builder.call(fn, [])
+        return context.get_dummy_value()
+    return types.none(), codegen

@@ -1,7 +1,7 @@
 """Damping, integration and the movement checks of the time step (``step.py``), on one thread
 (``advance``), on the threads by chunks of blocks (``advance_parallel``), or for a list of
 blocks (``advance_range`` with ``blocks``: the threaded step's owned and shared blocks,
-``parallel.contacts_and_advance_parallel``). Every path runs the one compiled loop of
+``region``). Every path runs the one compiled loop of
 ``advance_range``, so every block gets the same numbers, bit for bit.
 
 For each free velocity component:  F_d = f - alpha |f| sign(v)   (local damping, Cundall's)

@@ -1,12 +1,14 @@
 """Many steps in one parallel region, for a scene whose only force besides the contacts' is gravity.
 
-``run_steps_region`` is ``step.run_steps`` on the threads, bit for bit: each step is the one
-parallel step of ``parallel.contacts_and_advance_parallel`` (each chunk's contacts, then gravity
-and the moves of the blocks it owns; then, serially, the crack log and the shared blocks'
-forces, gravity and moves; the time, kinetic damping and the next step's kick), but the threads
-stay in one region for all the steps of the call. Entering a region costs its second thread a
-wake-up (43-85 us with TBB on this VM, 5-6 % of a 1e4-block step: docs/performance.md), paid
-here once per call instead of once per step.
+``run_steps_region`` is ``step.run_steps`` on the threads, bit for bit. A step: each chunk's
+contacts (``forces.chunk_forces``), then gravity and the moves of the blocks the chunk owns
+(``parallel``: all their contacts are in the chunk, so their forces are complete); then,
+serially, the crack log, the shared blocks' forces, gravity and moves, the time, kinetic
+damping and the next step's kick. The threads stay in one region for all the steps of the
+call: entering a region costs its second thread a wake-up (43-85 us with numba's TBB layer on
+a 2-core VM, 5-6 % of a 1e4-block step and more than a 1e3-block step: docs/performance.md),
+paid here once per call (``Model.cycle`` calls every ``history_every`` steps) instead of once
+per step.
 
 The threads keep step with three counters (``atomics``), never with a lock:
 
@@ -32,7 +34,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from .atomics import compare_exchange, fetch_add, load_acquire, store_release
+from .atomics import compare_exchange, fetch_add, load_acquire, store_release, yield_cpu
 from .components.gravity import add_gravity_to
 from .forces import chunk_forces
 from .integration import DONE, NEED_SEARCH, UNSTABLE, advance_range, merge_status
@@ -46,6 +48,9 @@ __all__ = ["run_steps_region", "MIN_CONTACTS"]
 # 200-3,000 steps a call, 2-core VM, TBB (docs/performance.md, "Many steps in one region"):
 # 1.09-1.38x at about 1,800 contacts (326 blocks), 1.35-1.50x at 6,020 (1,084 blocks)
 MIN_CONTACTS = 3_000
+
+# a waiting thread spins this many times (about 10-50 us), then yields its core at every turn
+SPINS = 20_000
 
 # the slots of the int64 ``sync`` array
 RELEASED, DONE_CHUNKS, END, STATUS, BAD = 0, 1, 2, 3, 4
@@ -88,7 +93,11 @@ def _worker(own, nsteps, integ, s, p, c, strength, cracks, rnd, par, gravity, df
     n = 0
     while True:
         released = load_acquire(sync, RELEASED)
+        spins = 0
         while released < n:                          # step n - 1 not closed yet
+            spins += 1
+            if spins > SPINS:        # the closing thread may be waiting for a core
+                yield_cpu()
             released = load_acquire(sync, RELEASED)
         n = released                                 # a late thread skips closed steps
         if n >= load_acquire(sync, END):

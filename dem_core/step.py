@@ -25,9 +25,9 @@ One step (``run_steps`` loops it inside numba, no Python in between)::
 With threads (``Model(threads=n)``, a non-empty ``Parallel`` bundle) ``run_steps_threaded``
 runs the same step, the same numbers for every block, bit for bit, in one of two shapes:
 
-- gravity the only force besides the contacts' (``only_gravity``): one parallel region,
-  ``parallel.contacts_and_advance_parallel``. Each thread's chunk of contacts, then gravity
-  and the moves of the blocks it owns (all their contacts in the chunk); after the region the
+- gravity the only force besides the contacts' (``only_gravity``): ``region.run_steps_region``,
+  all the steps in one parallel region. Each thread's chunk of contacts, then gravity and the
+  moves of the blocks it owns (all their contacts in the chunk); then, on one thread, the
   shared blocks' forces, gravity and moves;
 - otherwise: ``parallel.add_contact_forces_parallel`` (which also zeroes f, block by block),
   the other forces, and the damping and integration ``advance_parallel`` (from
@@ -95,9 +95,9 @@ def run_steps_threaded(nsteps, time, integ, s, p, c, strength, cracks, rnd, par,
                        loads, water, cables, liners, servo, dfm):
     """``run_steps`` on the threads: ``par`` the Parallel bundle (chunks and scratch); the
     same numbers, bit for bit. When gravity is the only force besides the contacts' (the
-    other bundles empty), the step is one parallel region
-    (``parallel.contacts_and_advance_parallel``); otherwise the contact pass is one region and
-    the integration another (from ``MIN_THREADED_BLOCKS`` blocks up)."""
+    other bundles empty), all the steps run in one parallel region
+    (``region.run_steps_region``); otherwise each step's contact pass is one region and its
+    integration another (from ``MIN_THREADED_BLOCKS`` blocks up)."""
     if only_gravity(loads, water, cables, liners, servo, dfm):
         return run_steps_region(nsteps, time, integ, s, p, c, strength, cracks, rnd, par,
                                 gravity, dfm)

@@ -33,7 +33,7 @@ def add_gravity(grav, s, p):
 def add_gravity_to(grav, s, p, blocks, r0, r1):
     """f_i += m_i g for the active blocks r0 <= i < r1 (``blocks`` None), or blocks[r0:r1] (an
     int64 array: the threaded step's owned and shared blocks,
-    ``parallel.contacts_and_advance_parallel``)."""
+    ``region``)."""
     for r in range(grav.accel.shape[0]):
         gx, gy = grav.accel[r, 0], grav.accel[r, 1]
         for n in range(r1 - r0):
