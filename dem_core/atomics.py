@@ -18,12 +18,15 @@ array; ``i`` is not bounds-checked.
 """
 from __future__ import annotations
 
+import platform
+
 from llvmlite import ir
 from numba import types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
-__all__ = ["fetch_add", "compare_exchange", "load_acquire", "store_release", "yield_cpu"]
+__all__ = ["fetch_add", "compare_exchange", "load_acquire", "store_release", "yield_cpu",
+           "spin_pause"]
 
 
 def _pointer(context, builder, sig, args):
@@ -90,5 +93,22 @@ def yield_cpu(typingctx):
         fnty = ir.FunctionType(ir.IntType(32), [])
         fn = cgutils.get_or_insert_function(builder.module, fnty, "sched_yield")
         builder.call(fn, [])
+        return context.get_dummy_value()
+    return types.none(), codegen
+
+
+_X86 = platform.machine().lower() in ("x86_64", "amd64", "i386", "i686")
+
+
+@intrinsic
+def spin_pause(typingctx):
+    """x86 ``pause`` (nothing elsewhere): a spin-wait hint. It lets a spinning thread leave the
+    core's execution units to the thread on its sibling hyperthread and avoids the memory-order
+    flush when the awaited value changes (Intel's optimization manual, "spin-wait loops")."""
+    def codegen(context, builder, sig, args):
+        if _X86:      # LLVM's intrinsic: numba's LLVM has no inline-assembly parser
+            fn = cgutils.get_or_insert_function(
+                builder.module, ir.FunctionType(ir.VoidType(), []), "llvm.x86.sse2.pause")
+            builder.call(fn, [])
         return context.get_dummy_value()
     return types.none(), codegen
