@@ -18,9 +18,8 @@ step's parts at each size, each the
 same numba kernel the step calls, run ``steps`` times inside one numba call (no Python
 between calls): the contact pass (``parallel.add_contact_forces_parallel``: chunks, crack
 log, shared blocks), damping and integration (``integration.advance_parallel``), gravity
-(``components.add_gravity``), against the serial kernels, and the threaded step's one
-region when gravity is the only other force (``region.run_steps_region``, many steps:
-contacts, gravity and integration). Writes
+(``components.add_gravity``), against the serial kernels (the one-region step,
+``region.run_steps_region``, is the whole step of the gravity-only model above). Writes
 ``benchmarks/results/two_threads.json`` and ``two_threads.png``.
 """
 from __future__ import annotations
@@ -60,7 +59,6 @@ def _loops():
     from dem_core.components import add_gravity
     from dem_core.forces import add_contact_forces
     from dem_core.parallel import add_contact_forces_parallel
-    from dem_core.region import run_steps_region
     from dem_core.integration import advance, advance_parallel
 
     @njit
@@ -89,28 +87,12 @@ def _loops():
         for _ in range(n):
             add_gravity(g, s, p)
 
-    @njit
-    def one_region(n, c, strength, s, p, cracks, rnd, par, integ, g, dfm):
-        # the real step; when a block has moved half the search margin the region stops, and
-        # this timing goes on without the search (the few new contacts do not change the cost)
-        left = n
-        while left > 0:
-            done, _, status, _ = run_steps_region(left, 0.0, integ, s, p, c, strength, cracks,
-                                                  rnd, par, g, dfm)
-            if status == 2:
-                raise RuntimeError("the one-region run went unstable")
-            s.pos_search[:] = s.pos
-            s.theta_search[:] = s.theta
-            left -= done
-
-    return (contacts_serial, contacts_threaded, advance_serial, advance_threaded, gravity,
-            one_region)
+    return contacts_serial, contacts_threaded, advance_serial, advance_threaded, gravity
 
 
 def parts(m, steps, loops):
     """Seconds per step of each part of the step, serial and threaded kernels, on ``m``."""
-    (contacts_serial, contacts_threaded, advance_serial, advance_threaded, gravity,
-     one_region) = loops
+    contacts_serial, contacts_threaded, advance_serial, advance_threaded, gravity = loops
     import numba
     numba.set_num_threads(2)
     from dem_core.parallel import parallel_bundle
@@ -118,8 +100,6 @@ def parts(m, steps, loops):
     integ = m._integrator()
     g = m._components()[0]
     strength = m.table.strength_array()
-    from dem_core.state import copy_bundle
-    standing = copy_bundle(m.state)   # for the one region: the other parts drift the blocks
     out = {}
     for name, fn, args in (
             ("contacts_serial", contacts_serial,
@@ -128,10 +108,7 @@ def parts(m, steps, loops):
              (m.contacts, strength, m.state, m.cracks, m.corners, par, m.zone_state)),
             ("advance_serial", advance_serial, (m.state, m.props, integ)),
             ("advance_threaded", advance_threaded, (m.state, m.props, integ)),
-            ("gravity", gravity, (g, m.state, m.props)),
-            ("one_region", one_region,
-             (m.contacts, strength, standing, m.props, m.cracks, m.corners, par, integ, g,
-              m.zone_state))):
+            ("gravity", gravity, (g, m.state, m.props))):
         fn(2, *args)                                 # compile
         best = np.inf
         for _ in range(3):
@@ -187,9 +164,6 @@ def figure(rows, path):
             label="contact pass alone")
     ax.plot(b, [r["advance_serial_ms"] / r["advance_threaded_ms"] for r in rows], "^--",
             label="damping + integration alone")
-    ax.plot(b, [(r["contacts_serial_ms"] + r["gravity_ms"] + r["advance_serial_ms"])
-                / r["one_region_ms"] for r in rows], "d--",
-            label="one region (contacts, gravity, integration)")
     ax.plot(b, [r["speedup_rounds"] for r in rows], "o-", color="tab:blue", alpha=0.45,
             label="whole step, one region (median of each round's ratio)")
     ax.plot(b, [r["two_copies"] for r in rows], "k^-",
