@@ -40,8 +40,8 @@ from numba import njit, prange
 from .forces import chunk_forces, edge_correction, log_crack
 from .state import Parallel, no_parallel
 
-__all__ = ["Parallel", "contact_table", "add_contact_forces_parallel", "no_parallel",
-           "parallel_bundle", "chunk_owners"]
+__all__ = ["Parallel", "contact_table", "add_contact_forces_parallel", "log_failures",
+           "shared_forces", "no_parallel", "parallel_bundle", "chunk_owners"]
 
 
 def parallel_bundle(c, nb, threads, edges=False) -> Parallel:
@@ -135,12 +135,12 @@ def add_contact_forces_parallel(c, strength, s, cracks, time, rnd, par, edges, d
         # start each); the cast leaves one signature
         j = np.int64(jp)
         failures[j] = chunk_forces(c, strength, s, rnd, dfm, par, edges, j, cracks, time)
-    _log_failures(c, cracks, time, par)
-    _shared_forces(c, s, par, edges)
+    log_failures(c, cracks, time, par)
+    shared_forces(c, s, par, edges)
 
 
 @njit(cache=True)
-def _log_failures(c, cracks, time, par):
+def log_failures(c, cracks, time, par):
     """The chunks' bond failures appended to the crack log in contact order (the serial
     kernel's order)."""
     for j in range(par.failures.shape[0]):
@@ -155,7 +155,7 @@ def _log_failures(c, cracks, time, par):
 
 
 @njit(cache=True, inline="always")
-def _shared_forces(c, s, par, edges):
+def shared_forces(c, s, par, edges):
     """Each shared block's force: zeroed, then its contacts' forces from ``par.work`` added in
     contact order (the serial kernel's order), with the edge elements' shares."""
     f, pos, work = s.force, s.pos, par.work

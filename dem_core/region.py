@@ -39,7 +39,7 @@ from .atomics import (compare_exchange, fetch_add, load_acquire, spin_pause, sto
 from .components.gravity import add_gravity_to
 from .forces import chunk_forces
 from .integration import DONE, NEED_SEARCH, UNSTABLE, advance_range, merge_status
-from .parallel import _log_failures, _shared_forces
+from .parallel import log_failures, shared_forces
 from .relaxation import end_step, next_kick
 
 __all__ = ["run_steps_region", "MIN_CONTACTS"]
@@ -61,7 +61,9 @@ RELEASED, DONE_CHUNKS, END, STATUS, BAD = 0, 1, 2, 3, 4
 @njit(cache=True)
 def run_steps_region(nsteps, time, integ, s, p, c, strength, cracks, rnd, par, gravity, dfm):
     """Up to ``nsteps`` steps in one region; returns (steps done, time, status, block) as
-    ``step.run_steps``; the arguments are ``step.run_steps_threaded``'s."""
+    ``step.run_steps``; the arguments are ``step.run_steps_threaded``'s. Only a step with an
+    unstable block differs from the serial one: the other chunks' blocks have moved (the run
+    stops there)."""
     if nsteps <= 0:
         return 0, time, DONE, -1
     chunks = par.first.shape[0] - 1
@@ -134,8 +136,8 @@ def _close(n, nsteps, integ, s, p, c, cracks, par, gravity, dfm, sync, clock, re
     """The serial end of step n: crack log, shared blocks, status, time, kinetic damping, the
     next kick; then step n is released."""
     nb = s.pos.shape[0]
-    _log_failures(c, cracks, clock[0], par)
-    _shared_forces(c, s, par, integ.edge_elements)
+    log_failures(c, cracks, clock[0], par)
+    shared_forces(c, s, par, integ.edge_elements)
     ns = par.shared.shape[0]
     add_gravity_to(gravity, s, p, par.shared, 0, ns)
     first_unstable, last_search = nb, -1
