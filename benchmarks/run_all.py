@@ -36,7 +36,9 @@ so a crash in one does not stop the rest:
   column_bending.py (flexural strength of a Voronoi column against beam theory by block size),
   conventional_deformable.py (the thesis's conventional model of longtan and adhikary with
   Mohr-Coulomb zones, raised in g to failure, bisected to 5 g: about 5 and 12 min;
-  docs/comparisons.md)
+  docs/comparisons.md), fewer_steps.py (early settling against today's search in the
+  Adhikary ramp at 6 and 4 mm, each at 0.9, 1 and 1.1 times the steps a level: about 25 min;
+  docs/performance.md, issue 29 item 4)
 """
 from __future__ import annotations
 
@@ -73,7 +75,8 @@ def main():
                   str(HERE / "results" / "conventional_longtan_plastic_10mm_refined.json")],
                  ["conventional_deformable.py", "--case", "adhikary", "--zone", "0.005",
                   "--plastic", "--levels", "40", "200", "20", "--refine-to", "5", "--out",
-                  str(HERE / "results" / "conventional_adhikary_plastic_5mm_refined.json")]]
+                  str(HERE / "results" / "conventional_adhikary_plastic_5mm_refined.json")],
+                 ["fewer_steps.py", "--edges", "0.006", "0.004", "--budgets", "0.9", "1", "1.1"]]
     summary = []
     for job in jobs:
         t0 = time.perf_counter()

@@ -101,10 +101,10 @@ def ramp_run(scene, params, member: dict, failure_displacement: float, creep: fl
     member's output) with the histories of A and B, the cracks of the materials whose names
     start with one of ``rupture_materials``, ``picture`` (``dem_core.plot.block_picture`` of
     the end of the ramp: the failed state when it failed, with those cracks and the joints),
-    ``unstable`` (None, or the message of a numerical blow-up
-    of a slope that was not failing: ``raise_gravity`` stops there), ``blowups`` ([g, message]
-    of levels that blew up after the slope had started to fail: counted as failed) and
-    ``runtime_s``. The rupture is added by ``rupture``.
+    ``level_steps`` (each level's steps, in the order of ``g``), ``unstable`` (None, or the
+    message of a numerical blow-up of a slope that was not failing: ``raise_gravity`` stops
+    there), ``blowups`` ([g, message] of levels that blew up after the slope had started to
+    fail: counted as failed) and ``runtime_s``. The rupture is added by ``rupture``.
     """
     t0 = time.perf_counter()
     ramp = RaiseGravity(tuple(member["g_levels"]), ratio=1e-5, max_steps=member["max_steps"],
@@ -142,7 +142,8 @@ def ramp_run(scene, params, member: dict, failure_displacement: float, creep: fl
     out = {
         "label": member["label"], "params": member["params"], "blocks": blocks.n_blocks,
         "contacts": int(model.contacts.n), "g": rec.g, "verdict": rec.verdict,
-        "steps": int(np.sum(rec.steps)), "failure_g": rec.failure_g,
+        "steps": int(np.sum(rec.steps)), "level_steps": [int(k) for k in rec.steps],
+        "failure_g": rec.failure_g,
         "last_stable_g": rec.last_stable_g, "refined_levels": rec.refined,
         "ux_A": rec.point_ux.get("A", []),
         "ux_B": rec.point_ux.get("B", []), "cracks": int(keep.sum()),
