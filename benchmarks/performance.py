@@ -2,7 +2,7 @@
 time per Newton iteration against dofs.
 
     .venv/bin/python benchmarks/performance.py [--quick | --full]
-    .venv/bin/python benchmarks/performance.py --limit 100000   # the machine limit alone
+    .venv/bin/python benchmarks/performance.py --limit 100000 [--rounds 3]   # the limit alone
 
 - Scaling: ``throughput.run`` (bonded Voronoi square on a fixed base at 50 g) for 1e3..1e4
   (quick) or 1e3..1e5 (full) blocks, with 1 thread (the serial kernel) and 2 threads (the
@@ -14,7 +14,9 @@ time per Newton iteration against dofs.
 - Machine limit: memory bandwidth from numpy copies (``dst[:] = src``, 2 x 200 MB, counted as
   read + write) and a triad; the bytes streamed and the flops per contact update counted from the
   kernel source (see ``BYTES_PER_CONTACT``); the bandwidth-bound time per contact update is
-  bytes / bandwidth.
+  bytes / bandwidth. ``--limit`` also times ``_stream``: the same bytes in the same 18 arrays
+  through a numba loop of the contact pass's shape, without its arithmetic and block gathers
+  (what memory gives such a loop on this machine).
 - Continuum: elastic and Mohr-Coulomb centrifuge slope (``continuum_scaling.slope_case``),
   seconds per Newton iteration against dofs.
 Writes results/performance.json and results/performance.png.
@@ -24,6 +26,7 @@ from __future__ import annotations
 import time
 
 import numpy as np
+from numba import njit
 
 import scenes
 import throughput
@@ -62,6 +65,55 @@ def bandwidth(mb=200, reps=5):
     # copy: read + write (+ write-allocate read, not counted: the conservative, STREAM-like figure)
     return {"array_MB": mb, "copy_GB_s": 2 * byte / best_copy / 1e9,
             "two_pass_triad_GB_s": 6 * byte / best_triad / 1e9}
+
+
+def contact_streams(n):
+    """Arrays with the contact pass's streamed layout (``BYTES_PER_CONTACT``), ``n`` contacts:
+    the 14 read-only ones, the 4 read and rewritten, and the 2 written only."""
+    rng = np.random.default_rng(1)
+    f8 = lambda *shape: rng.random(shape)                                 # noqa: E731
+    i4 = lambda: rng.integers(0, 1000, n).astype(np.int32)               # noqa: E731
+    i1 = lambda: np.zeros(n, np.int8)                                    # noqa: E731
+    read = (i4(), i4(), f8(n, 2), f8(n, 2), f8(n, 2), i1(), i1(), i1(), f8(n), f8(n), f8(n),
+            i4())
+    rewrite = (f8(n), f8(n), f8(n), f8(n))
+    write = (np.empty(n), np.empty(n, np.int8))
+    return read, rewrite, write
+
+
+@njit(cache=True)
+def _stream(read, rewrite, write):
+    """One pass over ``contact_streams``: every byte the contact pass streams is read or written
+    once, in the same arrays and order, with a few operations between (no gathers of block
+    data). Its time is what memory gives a loop of this shape: the step's own bound."""
+    a, b, pa, pb, nb, face, anchor, broken, length, kn, ks, mat = read
+    sne, ts, un, us = rewrite
+    sn, slipping = write
+    for k in range(a.shape[0]):
+        x = (pa[k, 0] - pb[k, 0]) * nb[k, 0] + (pa[k, 1] - pb[k, 1]) * nb[k, 1]
+        x += length[k] * (kn[k] + ks[k]) + a[k] + b[k] + mat[k]
+        x += face[k] + anchor[k] + broken[k]
+        sn[k] = sne[k] + x
+        sne[k] = sn[k] * 0.5
+        ts[k] += x
+        un[k] -= x
+        us[k] += 2.0 * x
+        slipping[k] = x > 0.0
+
+
+def stream_ns(n_contacts, rounds=5, budget=2e7) -> float:
+    """Best ns per contact of ``_stream`` over ``n_contacts`` (about ``budget`` contacts a
+    round)."""
+    arrays = contact_streams(n_contacts)
+    _stream(*arrays)
+    reps = max(1, int(budget // n_contacts))
+    best = np.inf
+    for _ in range(rounds):
+        t0 = time.perf_counter()
+        for _ in range(reps):
+            _stream(*arrays)
+        best = min(best, (time.perf_counter() - t0) / reps / n_contacts * 1e9)
+    return best
 
 
 def profile(n_blocks, steps=200):
@@ -184,14 +236,21 @@ def machine_limit(n_blocks: int, rounds: int = 3) -> dict:
     import json
 
     bw = max((bandwidth() for _ in range(rounds)), key=lambda b: b["copy_GB_s"])
-    runs = [throughput.run(n_blocks, 200, threads=1) for _ in range(rounds)]
+    runs, streams = [], []
+    for _ in range(rounds):            # alternating, so both see the same spells of the host
+        runs.append(throughput.run(n_blocks, 200, threads=1))
+        streams.append(stream_ns(runs[0]["contacts"], rounds=1))
     ns = min(r["ns_per_contact_update"] for r in runs)
     bound = BYTES_PER_CONTACT / bw["copy_GB_s"]
     out = {"machine": scenes.machine(), "blocks": runs[0]["blocks"],
            "contacts": runs[0]["contacts"], "bandwidth": bw,
            "bytes_per_contact_update": BYTES_PER_CONTACT, "bound_ns_per_update": round(bound, 2),
            "measured_ns_per_update": [r["ns_per_contact_update"] for r in runs],
-           "best_over_bound": round(ns / bound, 2)}
+           "best_over_bound": round(ns / bound, 2),
+           # the same bytes through a numba loop of the contact pass's shape (no block data)
+           "stream_ns_per_update": [round(t, 2) for t in streams],
+           "best_over_stream": round(ns / min(streams), 2),
+           "stream_GB_s": round(BYTES_PER_CONTACT / min(streams), 2)}
     print(json.dumps(out), flush=True)
     return out
 
@@ -201,9 +260,11 @@ def main(argv=None):
     ap.add_argument("--limit", type=int, metavar="N",
                     help="only the machine limit: the bandwidth and the serial rate at N blocks "
                          "in one run, and how far the rate is from the bandwidth bound")
+    ap.add_argument("--rounds", type=int, default=3,
+                    help="with --limit: alternating rounds of the step and the stream loop")
     a = ap.parse_args(argv)
     if a.limit:
-        return machine_limit(a.limit)
+        return machine_limit(a.limit, a.rounds)
     out = {"machine": scenes.machine(), "mode": "full" if a.full else "quick",
            "threads": [1, 2],
            "note": "1 thread: serial kernel; 2 threads: dem_core.parallel (bit-identical); "
