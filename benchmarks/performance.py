@@ -3,6 +3,7 @@ time per Newton iteration against dofs.
 
     .venv/bin/python benchmarks/performance.py [--quick | --full]
     .venv/bin/python benchmarks/performance.py --limit 100000 [--rounds 3]   # the limit alone
+    .venv/bin/python benchmarks/performance.py --streams   # the stream loop against its size
 
 - Scaling: ``throughput.run`` (bonded Voronoi square on a fixed base at 50 g) for 1e3..1e4
   (quick) or 1e3..1e5 (full) blocks, with 1 thread (the serial kernel) and 2 threads (the
@@ -114,6 +115,68 @@ def stream_ns(n_contacts, rounds=5, budget=2e7) -> float:
             _stream(*arrays)
         best = min(best, (time.perf_counter() - t0) / reps / n_contacts * 1e9)
     return best
+
+
+# the bonded specimen's contacts at 1e5 and 1e6 blocks (throughput.run, million.py)
+MODELS = {623_012: 108_334, 6_247_144: 1_083_334}
+
+
+def stream_footprints(rounds=7, path=None) -> dict:
+    """``_stream``'s ns per contact against the contact arrays' size (MB), the sizes in
+    alternating order each round; the 1e5- and 1e6-block models' sizes marked. Writes
+    results/stream_footprint.json and .png (``path`` without suffix)."""
+    import json
+    from pathlib import Path
+    contacts = [62_301, 311_506, 623_012, 934_518, 1_246_024, 1_869_036, 2_492_048, 6_247_144]
+    arrays = {n: contact_streams(n) for n in contacts}
+    _stream(*arrays[contacts[0]])
+    times = {n: [] for n in contacts}
+    for r in range(rounds):
+        for n in (contacts if r % 2 == 0 else contacts[::-1]):
+            reps = max(1, int(1.5e7 // n))
+            t0 = time.perf_counter()
+            for _ in range(reps):
+                _stream(*arrays[n])
+            times[n].append((time.perf_counter() - t0) / reps / n * 1e9)
+    mb = {n: sum(a.nbytes for group in arrays[n] for a in group) / 2 ** 20 for n in contacts}
+    out = {"machine": scenes.machine(), "rounds": rounds,
+           "rows": [{"contacts": n, "model_blocks": MODELS.get(n),
+                     "contact_arrays_MB": round(mb[n], 1),
+                     "best_ns": round(min(times[n]), 2),
+                     "median_ns": round(float(np.median(times[n])), 2)} for n in contacts]}
+    path = Path(path or Path(__file__).parent / "results" / "stream_footprint")
+    path.with_suffix(".json").write_text(json.dumps(out, indent=2))
+    _stream_figure(out["rows"], path.with_suffix(".png"))
+    print(json.dumps(out["rows"]), flush=True)
+    return out
+
+
+def _stream_figure(rows, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(7.5, 4.5))
+    x = [r["contact_arrays_MB"] for r in rows]
+    ax.plot(x, [r["best_ns"] for r in rows], "o-", label="best of the rounds")
+    ax.plot(x, [r["median_ns"] for r in rows], "o:", color="tab:blue", alpha=0.5,
+            label="median of the rounds")
+    for r in rows:
+        if r["model_blocks"]:
+            ax.annotate(f"the {r['model_blocks']:,}-block model", (r["contact_arrays_MB"],
+                        r["best_ns"]), textcoords="offset points",
+                        xytext=(-70, -24) if r["model_blocks"] > 5e5 else (10, -34),
+                        fontsize=8, arrowprops=dict(arrowstyle="-", lw=0.6))
+    ax.set_xscale("log")
+    ax.set_ylim(bottom=0)
+    ax.set_xlabel("size of the contact arrays streamed each step (MB)")
+    ax.set_ylabel("ns per contact")
+    ax.set_title("The contact pass's bytes through a loop of its shape (no arithmetic, "
+                 "no block data)", fontsize=9)
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
 
 
 def profile(n_blocks, steps=200):
@@ -262,7 +325,12 @@ def main(argv=None):
                          "in one run, and how far the rate is from the bandwidth bound")
     ap.add_argument("--rounds", type=int, default=3,
                     help="with --limit: alternating rounds of the step and the stream loop")
+    ap.add_argument("--streams", action="store_true",
+                    help="only the stream loop against the contact arrays' size "
+                         "(results/stream_footprint.json, .png)")
     a = ap.parse_args(argv)
+    if a.streams:
+        return stream_footprints()
     if a.limit:
         return machine_limit(a.limit, a.rounds)
     out = {"machine": scenes.machine(), "mode": "full" if a.full else "quick",
