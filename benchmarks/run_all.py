@@ -16,6 +16,9 @@ so a crash in one does not stop the rest:
                      rigid ones, 218 Voronoi blocks (about 1 min; docs/mechanics.md)
 - performance.py     throughput (1 and 2 threads), scaling, step profile, machine limit,
                      continuum s/iteration
+- performance.py --streams  the contact pass's bytes through a loop of its shape against
+                     their size (about 1 min; the cache between 1e5 and 1e6 blocks, issue 29
+                     item 3)
 - two_threads.py     two threads against one, both shapes of the threaded step, its parts,
                      and the machine's ceiling beside it (two serial copies in two processes,
                      machine_threads.py; 1e3 to 1e5 blocks, about 5 min; docs/performance.md)
@@ -61,7 +64,7 @@ def main():
     mode = "--full" if a.full else "--quick"
     jobs = [["error_vs_time.py", mode], ["stability_map.py", mode], ["leave_out.py", mode],
             ["support_cost.py"], ["deformable_cost.py"],
-            ["performance.py", mode], ["two_threads.py"], ["numba_pipelines.py"],
+            ["performance.py", mode], ["performance.py", "--streams"], ["two_threads.py"], ["numba_pipelines.py"],
             ["lab_resolution.py", mode],
             ["centrifuge_resolution.py", "--edges", "0.008", "0.006", "0.004"]
             + (["0.003"] if a.full else []), ["bedding_demand.py"], ["gravity_box.py"],
