@@ -102,19 +102,22 @@ def _stream(read, rewrite, write):
         slipping[k] = x > 0.0
 
 
-def stream_ns(n_contacts, rounds=5, budget=2e7) -> float:
-    """Best ns per contact of ``_stream`` over ``n_contacts`` (about ``budget`` contacts a
-    round)."""
+def stream_round(arrays, budget=2e7) -> float:
+    """ns per contact of ``_stream`` over ``arrays`` (``contact_streams``), repeated for about
+    ``budget`` contacts."""
+    n = arrays[0][0].shape[0]
+    reps = max(1, int(budget // n))
+    t0 = time.perf_counter()
+    for _ in range(reps):
+        _stream(*arrays)
+    return (time.perf_counter() - t0) / reps / n * 1e9
+
+
+def stream_ns(n_contacts, rounds=5) -> float:
+    """Best ns per contact of ``_stream`` over ``n_contacts`` in ``rounds`` rounds."""
     arrays = contact_streams(n_contacts)
     _stream(*arrays)
-    reps = max(1, int(budget // n_contacts))
-    best = np.inf
-    for _ in range(rounds):
-        t0 = time.perf_counter()
-        for _ in range(reps):
-            _stream(*arrays)
-        best = min(best, (time.perf_counter() - t0) / reps / n_contacts * 1e9)
-    return best
+    return min(stream_round(arrays) for _ in range(rounds))
 
 
 # the bonded specimen's contacts at 1e5 and 1e6 blocks (throughput.run, million.py)
@@ -133,11 +136,7 @@ def stream_footprints(rounds=7, path=None) -> dict:
     times = {n: [] for n in contacts}
     for r in range(rounds):
         for n in (contacts if r % 2 == 0 else contacts[::-1]):
-            reps = max(1, int(1.5e7 // n))
-            t0 = time.perf_counter()
-            for _ in range(reps):
-                _stream(*arrays[n])
-            times[n].append((time.perf_counter() - t0) / reps / n * 1e9)
+            times[n].append(stream_round(arrays[n], 1.5e7))
     mb = {n: sum(a.nbytes for group in arrays[n] for a in group) / 2 ** 20 for n in contacts}
     out = {"machine": scenes.machine(), "rounds": rounds,
            "rows": [{"contacts": n, "model_blocks": MODELS.get(n),
