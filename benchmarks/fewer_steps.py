@@ -58,8 +58,9 @@ def main(argv=None):
         rows = json.loads((out / f"{a.replot}.json").read_text())["rows"]
         figure(rows, rows[0]["case"], out / f"{a.replot}.png")
         return
-    if any(not b > 0 for b in a.budgets) or a.reference < 0:
-        ap.error(f"budgets and --reference must be > 0, got {a.budgets}, {a.reference}")
+    if any(not b > 0 for b in a.budgets) or a.reference < 0 or a.reference in a.budgets:
+        ap.error(f"budgets must be > 0 and --reference (0: none) one that is not among them, "
+                 f"got {a.budgets}, {a.reference}")
     runs = [(settle, b) for b in a.budgets for settle in (False, True)]
     runs += [(False, a.reference)] if a.reference > 0 else []
     members = []
