@@ -146,7 +146,7 @@ def figure(rows, case, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     edges = sorted({r["edge_m"] for r in rows}, reverse=True)
-    fig, axes = plt.subplots(1, len(edges), figsize=(5.5 * len(edges), 4.6), squeeze=False)
+    fig, axes = plt.subplots(1, len(edges), figsize=(5.5 * len(edges), 5.4), squeeze=False)
     budgets = sorted({r["budget"] for r in rows if not r["reference"]})
     for ax, edge in zip(axes[0], edges):
         for r in (r for r in rows if r["edge_m"] == edge):
@@ -164,7 +164,8 @@ def figure(rows, case, path):
                        label="today's answers' range over the budgets")
         handles, labels = ax.get_legend_handles_labels()
         keep = {l: h for h, l in zip(handles, labels)}
-        ax.legend(keep.values(), keep.keys(), fontsize=8, loc="best")
+        ax.legend(keep.values(), keep.keys(), fontsize=8, loc="upper center",  # off the data
+                  bbox_to_anchor=(0.5, -0.16), ncol=2)
         ax.set_xlabel("steps to the answer (thousands)")
         ax.set_ylabel("failure g")
         ax.set_xlim(0, 1.12 * max(r["steps"] for r in rows if r["edge_m"] == edge) / 1e3)
