@@ -56,6 +56,8 @@ def main(argv=None):
     out = Path(__file__).parent / "results"
     if a.replot:
         rows = json.loads((out / f"{a.replot}.json").read_text())["rows"]
+        for r in rows:          # files written before --budgets: no reference flag
+            r.setdefault("reference", r["budget"] != 1.0 and not r["settle"])
         figure(rows, rows[0]["case"], out / f"{a.replot}.png")
         return
     if any(not b > 0 for b in a.budgets) or a.reference < 0 or a.reference in a.budgets:
