@@ -5,6 +5,8 @@
     python benchmarks/fewer_steps.py --case longtan --edges 0.008 --reference 2
     python benchmarks/fewer_steps.py --edges 0.006 0.004 --budgets 0.9 1 1.1
     python benchmarks/fewer_steps.py --replot fewer_steps_budgets
+    python benchmarks/fewer_steps.py --edges 0.006 0.004 --budgets 0.9 1 1.1 \
+        --solver '{"step_estimate": "eigen"}' --today fewer_steps_budgets
 
 The Adhikary base run (flaw T = 1.1 MPa, the full variant's ramp: 10 g levels, the failed level
 bisected and closed in 1 g steps; ``benchmarks/centrifuge_resolution.member``) at each block
@@ -19,6 +21,12 @@ Steps do not depend on the machine; seconds do (the machine is named in the JSON
 ``--reference K``: a third run per edge, today's search with K x the steps a level, whose
 failure g tells whether today's answer is converged in its step budget (the reference the two
 are judged against; docs/performance.md, "A settled level must be slowing down").
+``--solver JSON``: further ``Model`` options for the settling search only (e.g.
+``{"step_estimate": "eigen"}``: the step from the largest eigenvalue, ``dem_core.critical_step``),
+so the pair compares today's search with settling on that solver; the file name gets the
+options' values. ``--today NAME``: take today's runs (same edges and budgets) from
+``results/NAME.json`` instead of running them again (their steps and answers do not depend on
+the machine; their seconds were taken then, so the seconds ratio is across runs).
 ``--budgets B ...``: both searches at each of these multiples of the steps a level. A change of
 budget that changes no physics moves the failure g by the model's own reproducibility; the
 spread of today's answers over the budgets is what "the same answer" can be judged against
@@ -50,6 +58,11 @@ def main(argv=None):
     ap.add_argument("--budgets", type=float, nargs="+", default=[1.0], metavar="B",
                     help="run both searches at each of these multiples of the steps a level "
                          "(today's reproducibility under a change that changes no physics)")
+    ap.add_argument("--solver", type=json.loads, default={}, metavar="JSON",
+                    help="Model options for the settling search, e.g. "
+                         "'{\"step_estimate\": \"eigen\"}'")
+    ap.add_argument("--today", metavar="NAME",
+                    help="reuse today's runs from benchmarks/results/NAME.json")
     ap.add_argument("--replot", metavar="NAME",
                     help="run nothing: draw benchmarks/results/NAME.json's rows into NAME.png")
     a = ap.parse_args(argv)
@@ -63,23 +76,27 @@ def main(argv=None):
     if any(not b > 0 for b in a.budgets) or a.reference < 0 or a.reference in a.budgets:
         ap.error(f"budgets must be > 0 and --reference (0: none) one that is not among them, "
                  f"got {a.budgets}, {a.reference}")
-    runs = [(settle, b) for b in a.budgets for settle in (False, True)]
+    stored = _stored_today(out, a.today, a.edges, a.budgets) if a.today else []
+    runs = [(settle, b) for b in a.budgets for settle in ((True,) if a.today else (False, True))]
     runs += [(False, a.reference)] if a.reference > 0 else []
     members = []
     for edge in a.edges:
         for settle, budget in runs:
             m = member(edge, case=a.case)
             m["settle"] = settle
+            if settle:
+                m["solver"] = {**m["solver"], **a.solver}
             m["max_steps"] = int(budget * m["max_steps"])
             m["budget"] = budget
             m["reference"] = not settle and budget == a.reference
             m["label"] += (" settle" if settle else " today") + (
                 f" x{budget:g}" if budget != 1.0 else "")
             members.append(m)
-    rows = []
+    rows = list(stored)
     for m, r in zip(members, run_sweep(run_member, members, a.workers)):
         failed = sum(k for k, v in zip(r["level_steps"], r["verdict"]) if v == "failed")
         rows.append({"case": a.case, "edge_m": m["params"]["edge_length"], "settle": m["settle"],
+                     "solver": a.solver if m["settle"] else {},
                      "budget": m["budget"], "reference": m["reference"],
                      "max_steps_per_level": m["max_steps"], "blocks": r["blocks"],
                      "failure_g": r["failure_g"], "last_stable_g": r["last_stable_g"],
@@ -93,11 +110,25 @@ def main(argv=None):
     spread = [spread_of(rows, edge) for edge in a.edges]
     out.mkdir(exist_ok=True)
     name = "fewer_steps" + ("" if a.case == "adhikary" else f"_{a.case}") + (
-        "_reference" if a.reference > 0 else "") + ("_budgets" if a.budgets != [1.0] else "")
+        "_reference" if a.reference > 0 else "") + ("_budgets" if a.budgets != [1.0] else "") + (
+        "".join(f"_{v}" for v in a.solver.values()))
     (out / f"{name}.json").write_text(json.dumps(
         {"machine": f"{platform.machine()} {platform.platform()}", "workers": a.workers,
          "rows": rows, "pairs": pairs, "spread": spread, **totals(rows)}, indent=2))
     figure(rows, a.case, out / f"{name}.png")
+
+
+def _stored_today(out, name, edges, budgets) -> list:
+    """Today's rows (no settling, not the reference) of ``results/<name>.json`` at these
+    edges and budgets, each marked ``reused``; SystemExit naming what is missing."""
+    rows = json.loads((out / f"{name}.json").read_text())["rows"]
+    keep = [dict(r, reused=name) for r in rows if not r["settle"] and not r.get("reference")
+            and r["edge_m"] in edges and r["budget"] in budgets]
+    have = {(r["edge_m"], r["budget"]) for r in keep}
+    missing = [(e, b) for e in edges for b in budgets if (e, b) not in have]
+    if missing:
+        raise SystemExit(f"{name}.json has no today's run at (edge, budget) {missing}")
+    return keep
 
 
 def pair(rows, edge, budget) -> dict:
@@ -153,7 +184,9 @@ def figure(rows, case, path):
     for ax, edge in zip(axes[0], edges):
         for r in (r for r in rows if r["edge_m"] == edge):
             style = ("s", "k", "today, reference budget") if r["reference"] else (
-                ("^", "tab:orange", "settling") if r["settle"] else ("o", "tab:blue", "today"))
+                ("^", "tab:orange", "settling" + "".join(f", {k} {v}" for k, v in
+                                                         r.get("solver", {}).items()))
+                if r["settle"] else ("o", "tab:blue", "today"))
             g = r["failure_g"] if r["failure_g"] is not None else float("nan")
             ax.plot(r["steps"] / 1e3, g, style[0], color=style[1], ms=8, label=style[2])
             below = budgets.index(r["budget"]) % 2 if r["budget"] in budgets else 0

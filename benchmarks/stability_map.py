@@ -10,7 +10,9 @@ blocks the geometry makes). For each case ``auto_dt`` is ``Model(...).dt`` (safe
 largest stable step is found by bisection (in log dt, to 2 %) on a fixed ``Model(dt=...)``:
 stable = the run of ``steps`` steps finishes without ``ModelUnstable``, with finite positions
 and total energy (kinetic + spring + gravity, which starts at 0) never above 5 % of the largest
-spring energy seen. ``margin = largest stable dt / auto_dt``; > 1 means the automatic step is
+spring energy seen. ``stable_over_eigen = largest stable dt / the critical step from the largest eigenvalue``
+(``Model(step_estimate="eigen").critical_dt``, ``dem_core.critical_step``): 1 when that
+estimate is exact. ``margin = largest stable dt / auto_dt``; > 1 means the automatic step is
 safe. A bisection only brackets the stability limit of that run length: growth slower than
 ``steps`` steps is not seen (``--full`` doubles the steps).
 
@@ -55,20 +57,22 @@ def _is_stable(bs, kn, ks, g_level, dt, steps):
                 and worst <= 0.05 * se_max)
 
 
-def auto_dt(bs, kn, ks):
+def auto_dt(bs, kn, ks, step_estimate="bound"):
+    """(automatic dt, search margin, critical dt) of the specimen, the critical step
+    bounded (``step_estimate="bound"``) or from the largest eigenvalue ("eigen")."""
     from dem_core.materials import Material
     from dem_core.model import Model
 
     mats = {"flaw:*": Material(kn=kn, ks=ks, tensile_strength=1e5, cohesion=2e5, friction=35),
             "boundary:*": Material(kn=kn, ks=ks, friction=35)}
-    m = Model(bs, mats, density=2500, damping=0.0)
+    m = Model(bs, mats, density=2500, damping=0.0, step_estimate=step_estimate)
     m.fix("base")
-    return m.dt, m.search_margin
+    return m.dt, m.search_margin, m.critical_dt
 
 
 def largest_stable_dt(bs, kn, ks, g_level, steps, rel_tol=0.02):
     """Bisection in log dt; returns (largest stable dt, auto dt, evaluations, stable at auto)."""
-    dt0, _ = auto_dt(bs, kn, ks)
+    dt0 = auto_dt(bs, kn, ks)[0]
     evals = 1
     stable_auto = _is_stable(bs, kn, ks, g_level, dt0, steps)
     if not stable_auto:
@@ -113,20 +117,26 @@ def dem_map(full, log):
                     # static overlap at the base (rho g n H / kn) against the search margin:
                     # above 1 the blocks interpenetrate further than the contact search sees
                     margin = auto_dt(bs, kn, kn / r)[1]
+                    eigen = auto_dt(bs, kn, kn / r, "eigen")[2]
                     overlap = 2500 * 9.81 * g * 0.05 / kn
                     row = {"blocks": name, "n_blocks": bs.n_blocks,
                            "smallest_area_over_median": small, "kn": kn, "kn_over_ks": r,
                            "g_level": g, "auto_dt": dt_auto, "largest_stable_dt": dt_max,
                            "margin": dt_max / dt_auto, "auto_dt_stable": ok,
+                           # the critical step from the largest eigenvalue: 1 if it is exact
+                           "eigen_critical_dt": eigen, "stable_over_eigen": dt_max / eigen,
                            "overlap_over_search_margin": overlap / margin,
                            "evaluations": evals, "seconds": time.perf_counter() - t0}
                     rows.append(row)
                     log(f"  {name:26s} kn {kn:.0e} kn/ks {r:5g} g {g:5g}: auto {dt_auto:.3e} s, "
-                        f"largest stable {dt_max:.3e} s, margin {row['margin']:.2f}"
+                        f"largest stable {dt_max:.3e} s, margin {row['margin']:.2f}, "
+                        f"over the eigen critical {row['stable_over_eigen']:.3f}"
                         f"{'' if ok else '  AUTO UNSTABLE'}")
     valid = [r for r in rows if r["overlap_over_search_margin"] < 1.0]
     return {"steps_per_run": steps, "rel_tol": 0.02, "rows": rows,
             "min_margin_valid_scenes": min(r["margin"] for r in valid),
+            "stable_over_eigen_valid_scenes": [min(r["stable_over_eigen"] for r in valid),
+                                               max(r["stable_over_eigen"] for r in valid)],
             "auto_unstable": [(r["blocks"], r["kn"], r["kn_over_ks"], r["g_level"],
                                r["overlap_over_search_margin"]) for r in rows
                               if not r["auto_dt_stable"]],

@@ -41,7 +41,8 @@ _SCENE_KEYS = {"name", "description", "geometry", "materials", "density", "block
                "block_nu", "groups", "boundaries", "points", "stages", "solver"}
 _MATERIAL_KEYS = {f.name for f in dataclasses.fields(Material)}
 # Model options a scene may set (the rest of Model's arguments come from the scene itself)
-SOLVER_KEYS = {"damping", "kinetic_damping", "safety", "mass_scaling", "dt", "search_margin",
+SOLVER_KEYS = {"damping", "kinetic_damping", "safety", "step_estimate", "mass_scaling", "dt",
+               "search_margin",
                "new_contact_material", "history_every", "threads", "unbreakable",
                "edge_elements", "rounding", "deformable", "zone_strength"}
 

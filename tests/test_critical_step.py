@@ -1,0 +1,81 @@
+"""The critical step from the largest eigenvalue (``Model(step_estimate="eigen")``,
+``dem_core.critical_step``): the closed form of a bonded block, and the stability limit."""
+import math
+
+import numpy as np
+import pytest
+
+from dem_core.materials import Material
+from dem_core.model import Model, ModelUnstable
+from dem_core.simple_blocks import brick_grid, from_polygons
+
+
+def block_on_base(kn, ks, **kw):
+    """A unit square bonded on a fixed unit square below it (shared edge y = 1)."""
+    bs = from_polygons([[(0, 0), (1, 0), (1, 1), (0, 1)], [(0, 1), (1, 1), (1, 2), (0, 2)]],
+                       edge_material="flaw:rock", groups={"base": [0], "top": [1]})
+    m = Model(bs, {"flaw:*": Material(kn=kn, ks=ks, breakable=False)}, density=2000,
+              damping=0.0, **kw)
+    m.fix("base")
+    return m
+
+
+@pytest.mark.parametrize("kn, ks", [(2e9, 5e8), (1e9, 1e10)])
+def test_eigen_step_of_a_bonded_block_is_the_closed_form(kn, ks):
+    # The edge's two contacts, each of length L = a/2 at the edge ends (-a/2, -a/2) and
+    # (a/2, -a/2) from the centroid: K_vv = 2 kn L, and sliding u and rocking w couple,
+    # K_uu = 2 ks L, K_uw = 2 ks L a/2, K_ww = 2 (kn + ks) L a^2/4; M = diag(m, m, m a^2/6).
+    a, m_ = 1.0, 2000.0
+    L, inertia = a / 2, m_ * a * a / 6
+    k_uw = np.array([[2 * ks * L, ks * L * a], [ks * L * a, (kn + ks) * L * a * a / 2]])
+    d = np.diag([1 / math.sqrt(m_), 1 / math.sqrt(inertia)])
+    w2 = max(2 * kn * L / m_, np.linalg.eigvalsh(d @ k_uw @ d)[-1])
+    m = block_on_base(kn, ks, step_estimate="eigen", safety=0.5)
+    assert m.critical_dt == pytest.approx(2 / math.sqrt(w2), rel=1e-3)
+    assert m.dt == pytest.approx(0.5 * m.critical_dt, rel=1e-12)
+    bound = block_on_base(kn, ks)
+    assert bound.critical_dt < m.critical_dt       # the Gershgorin bound is the safe side
+
+
+def bonded_wall(kn_over_ks, safety):
+    """A wall of bonded bricks (brick bond, half bricks at the ends) on its fixed bottom row, undamped, with the step set
+    from the eigenvalue and a small random velocity in every free dof."""
+    bs = brick_grid(4, 4, 0.2, 0.1, stagger=True, edge_material="flaw:rock")
+    base = bs.groups["bottom"]
+    m = Model(bs, {"flaw:*": Material(kn=1e10, ks=1e10 / kn_over_ks, breakable=False)},
+              density=2600, damping=0.0, safety=safety, step_estimate="eigen")
+    m.fix("bottom")
+    rng = np.random.default_rng(3)
+    free = np.setdiff1d(np.arange(bs.n_blocks), base)
+    m.state.vel[free] = 1e-6 * rng.standard_normal((free.size, 2))
+    m.state.omega[free] = 1e-5 * rng.standard_normal(free.size)
+    return m
+
+
+@pytest.mark.parametrize("kn_over_ks", [0.1, 1.0, 100.0])
+def test_eigen_step_is_the_stability_limit(kn_over_ks):
+    # Central differences: stable below 2 / omega_max, the highest mode growing above it.
+    below = bonded_wall(kn_over_ks, 0.97)
+    e0 = below.kinetic_energy()
+    below.cycle(3000)
+    assert below.kinetic_energy() + below.strain_energy() < 2 * e0
+    above = bonded_wall(kn_over_ks, 1.0)
+    above.fixed_dt = 1.05 * above.critical_dt
+    above.dt = above.fixed_dt
+    with pytest.raises(ModelUnstable):
+        above.cycle(3000)
+
+
+def test_eigen_step_survives_save_and_load(tmp_path):
+    m = block_on_base(1e9, 1e9, step_estimate="eigen")
+    m.save(tmp_path / "m.npz")
+    back = Model.load(tmp_path / "m.npz")
+    assert back.step_estimate == "eigen" and back.dt == m.dt
+
+
+@pytest.mark.parametrize("kw, word", [({"step_estimate": "exact"}, "'exact'"),
+                                      ({"step_estimate": "eigen", "rounding": 0.01},
+                                       "rounding=0.01")])
+def test_bad_step_estimate_is_named(kw, word):
+    with pytest.raises(ValueError, match=word):
+        block_on_base(1e9, 1e9, **kw)
