@@ -9,6 +9,9 @@ so a crash in one does not stop the rest:
 
 - error_vs_time.py   error against run time of the closed-form checks (docs/verification.md)
 - stability_map.py   DEM time-step margin map, continuum Newton map (docs/verification.md)
+- critical_step_cost.py  the step from the largest eigenvalue against the bounded one: gain
+                     and the cost of a solve against a step (1e3, 1e4 blocks; full: 1e5;
+                     docs/performance.md)
 - leave_out.py       cost of unused parts, flaws only where needed (docs/performance.md)
 - support_cost.py    cost per step of 200 cables and a liner on a pit wall (issue 23; the same
                      measurement in both modes, about 3 min; docs/performance.md)
@@ -41,6 +44,7 @@ so a crash in one does not stop the rest:
   Mohr-Coulomb zones, raised in g to failure, bisected to 5 g: about 5 and 12 min;
   docs/comparisons.md), fewer_steps.py (early settling against today's search in the
   Adhikary ramp at 6 and 4 mm, each at 0.9, 1 and 1.1 times the steps a level: about 25 min;
+  then settling with the step from the largest eigenvalue against those runs: about 15 min;
   docs/performance.md, issue 29 item 4)
 """
 from __future__ import annotations
@@ -62,7 +66,8 @@ def main():
     g.add_argument("--full", action="store_true")
     a = ap.parse_args()
     mode = "--full" if a.full else "--quick"
-    jobs = [["error_vs_time.py", mode], ["stability_map.py", mode], ["leave_out.py", mode],
+    jobs = [["error_vs_time.py", mode], ["stability_map.py", mode],
+            ["critical_step_cost.py", mode], ["leave_out.py", mode],
             ["support_cost.py"], ["deformable_cost.py"],
             ["performance.py", mode], ["performance.py", "--streams"], ["two_threads.py"], ["numba_pipelines.py"],
             ["lab_resolution.py", mode],
@@ -79,7 +84,9 @@ def main():
                  ["conventional_deformable.py", "--case", "adhikary", "--zone", "0.005",
                   "--plastic", "--levels", "40", "200", "20", "--refine-to", "5", "--out",
                   str(HERE / "results" / "conventional_adhikary_plastic_5mm_refined.json")],
-                 ["fewer_steps.py", "--edges", "0.006", "0.004", "--budgets", "0.9", "1", "1.1"]]
+                 ["fewer_steps.py", "--edges", "0.006", "0.004", "--budgets", "0.9", "1", "1.1"],
+                 ["fewer_steps.py", "--edges", "0.006", "0.004", "--budgets", "0.9", "1", "1.1",
+                  "--solver", '{"step_estimate": "eigen"}', "--today", "fewer_steps_budgets"]]
     summary = []
     for job in jobs:
         t0 = time.perf_counter()
