@@ -42,12 +42,12 @@ def test_a_run_shorter_than_two_windows_is_not_judged():
     assert not settled(STEPS[:4], QUIET[:4], [0] * 4, window=200, creep=2e-4)
 
 
-def _factor_of_safety(settle):
+def _factor_of_safety(settle, **solver):
     """The block on a 30 degree plane (c = 0, phi = 40: F = tan 40 / tan 30 = 1.453) with a
     force ratio no level reaches (1e-13), so every stable level runs to its step limit unless
     it settles."""
     sc = block_on_plane(0.0, 40.0)
-    m = build_model(sc)
+    m = build_model(sc, **solver)
     fos = FactorOfSafety(("*",), f_levels=(1.0, 1.2, 1.4, 1.6), refine_to=0.02, ratio=1e-13,
                          max_steps=10_000, failure_displacement=0.01, creep=1e-5,
                          settle=settle)
@@ -62,3 +62,13 @@ def test_settling_gives_the_same_factor_of_safety_in_fewer_steps():
     assert "settled" in early.detail["verdicts"] and "settled" not in today.detail["verdicts"]
     # a stable level settles after two windows of a tenth of its 10,000 steps at the soonest
     assert early.steps <= 0.5 * today.steps, (early.steps, today.steps)
+
+
+def test_settling_on_the_eigen_step_gives_the_same_factor_of_safety():
+    """The step from the largest eigenvalue (``step_estimate="eigen"``) is larger than the
+    bounded one; the search's answer is the closed form's all the same."""
+    assert build_model(block_on_plane(0.0, 40.0), step_estimate="eigen").dt > build_model(
+        block_on_plane(0.0, 40.0)).dt
+    rec = _factor_of_safety(True, step_estimate="eigen")
+    closed = math.tan(math.radians(40.0)) / math.tan(math.radians(THETA))
+    assert rec.detail["factor_of_safety"] == pytest.approx(closed, abs=0.03)
