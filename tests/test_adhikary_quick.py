@@ -10,8 +10,9 @@
 - the damage model's rupture runs from the toe into the slope;
 
 and that its failure g-levels are the stored regression numbers (tests/case_reference.json).
-Quick = 6 mm blocks, a ramp in 20 g levels from 40 to 120 g, at most 13,000 steps a level, one
-process per run (two side by side; about 3 minutes on 2 cores).
+Quick = 6 mm blocks, a ramp in 20 g levels from 40 to 120 g, at most 8,000 steps a level of the
+step from the largest eigenvalue, one process per run (two side by side; about 1 minute on 2
+cores).
 """
 import pytest
 from case_reference_check import assert_failure_g_matches
