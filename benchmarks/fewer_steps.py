@@ -189,9 +189,10 @@ def figure(rows, case, path):
                 if r["settle"] else ("o", "tab:blue", "today"))
             g = r["failure_g"] if r["failure_g"] is not None else float("nan")
             ax.plot(r["steps"] / 1e3, g, style[0], color=style[1], ms=8, label=style[2])
-            below = budgets.index(r["budget"]) % 2 if r["budget"] in budgets else 0
+            # labels of neighbouring budgets apart: above, below, further above
+            i = budgets.index(r["budget"]) % 3 if r["budget"] in budgets else 0
             ax.annotate(f"x{r['budget']:g}", (r["steps"] / 1e3, g), textcoords="offset points",
-                        xytext=(6, -12 if below else 5), fontsize=8)
+                        xytext=(6, (5, -12, 14)[i]), fontsize=8)
         g = [r["failure_g"] for r in rows if r["edge_m"] == edge and not r["settle"]
              and not r["reference"] and r["failure_g"] is not None]
         if len(g) > 1:
