@@ -102,7 +102,9 @@ def main(argv=None):
                      "failure_g": r["failure_g"], "last_stable_g": r["last_stable_g"],
                      "steps": r["steps"], "failed_level_steps": failed,
                      "seconds": round(r["runtime_s"], 1),
-                     "g_run": r["g"], "verdicts": r["verdict"], "level_steps": r["level_steps"]})
+                     "g_run": r["g"], "verdicts": r["verdict"], "level_steps": r["level_steps"],
+                     # numerical blow-ups: of a failing level (counted as failed), or at rest
+                     "blowups": r.get("blowups") or [], "unstable": r.get("unstable")})
         print(json.dumps(rows[-1]), flush=True)
     pairs = [pair(rows, edge, b) for edge in a.edges for b in a.budgets]
     for p in pairs:
