@@ -67,8 +67,9 @@ class Model:
         Time step = safety x critical step (``step_estimate``).
     step_estimate : str
         How the critical step 2 / omega_max is found. "bound" (default): omega_max^2 bounded
-        block by block (``step.frequency_bound``, Gershgorin), which on bonded Voronoi blocks
-        lies 2-3 times above the true value (the step 0.3 of the critical one at safety 0.5).
+        block by block (``step.frequency_bound``, Gershgorin), safe but high: on the cases'
+        blocks its critical step is 1.35-2.9 times below the true one, so at safety 0.5 the
+        step is 0.17-0.37 of the critical one (docs/mechanics.md, docs/performance.md).
         "eigen": omega_max^2 the largest eigenvalue of the inertial mass and contact
         stiffness (``critical_step``, a Lanczos solve after each contact search that changes
         the contacts, ~20 ms at 3,000 blocks): the step is then ``safety`` of the critical
