@@ -72,7 +72,7 @@ class Model:
         step is 0.17-0.37 of the critical one (docs/mechanics.md, docs/performance.md).
         "eigen": omega_max^2 the largest eigenvalue of the inertial mass and contact
         stiffness (``critical_step``, a Lanczos solve after each contact search that changes
-        the contacts, ~20 ms at 3,000 blocks): the step is then ``safety`` of the critical
+        the contacts, 5 ms at 1e3 blocks, 77 ms at 1e4): the step is then ``safety`` of the critical
         one. Rigid blocks with sharp corners only (ValueError with ``deformable`` or
         ``rounding``); with support elements their own bound is added.
     mass_scaling : bool
