@@ -10,9 +10,11 @@ blocks the geometry makes). For each case ``auto_dt`` is ``Model(...).dt`` (safe
 largest stable step is found by bisection (in log dt, to 2 %) on a fixed ``Model(dt=...)``:
 stable = the run of ``steps`` steps finishes without ``ModelUnstable``, with finite positions
 and total energy (kinetic + spring + gravity, which starts at 0) never above 5 % of the largest
-spring energy seen. ``stable_over_eigen = largest stable dt / the critical step from the largest eigenvalue``
-(``Model(step_estimate="eigen").critical_dt``, ``dem_core.critical_step``): 1 when that
-estimate is exact. ``margin = largest stable dt / auto_dt``; > 1 means the automatic step is
+spring energy seen. ``stable_over_eigen`` = largest stable dt / the critical step from the
+largest eigenvalue (``Model(step_estimate="eigen").critical_dt``, ``dem_core.critical_step``):
+1 when that estimate is exact and the energy criterion measures stability (it measures the
+energy error, i.e. accuracy, where that error passes 5 % below the limit: docs/mechanics.md).
+``margin = largest stable dt / auto_dt``; > 1 means the automatic step is
 safe. A bisection only brackets the stability limit of that run length: growth slower than
 ``steps`` steps is not seen (``--full`` doubles the steps).
 

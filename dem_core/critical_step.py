@@ -1,4 +1,5 @@
-"""The critical time step from the largest eigenvalue of the contact stiffness (``Model(step_estimate="eigen")``).
+"""The critical time step from the largest eigenvalue of the contact stiffness
+(``Model(step_estimate="eigen")``).
 
 Central differences are stable for a linear system when ``dt < 2 / omega_max``, with
 ``omega_max^2`` the largest eigenvalue of ``M^-1 K`` (M the inertial masses and moments, K the
