@@ -67,6 +67,15 @@ def test_eigen_step_is_the_stability_limit(kn_over_ks):
         above.cycle(3000)
 
 
+def test_eigen_step_is_a_function_of_the_state():
+    # a fixed Lanczos start: the same model gives the same step to the bit, built twice or
+    # recomputed (a resumed run steps as one that had not stopped)
+    a, b = bonded_wall(1.0, 0.5), bonded_wall(1.0, 0.5)
+    assert a.critical_dt == b.critical_dt
+    a._update_timestep()
+    assert a.critical_dt == b.critical_dt
+
+
 def test_eigen_step_survives_save_and_load(tmp_path):
     m = block_on_base(1e9, 1e9, step_estimate="eigen")
     m.save(tmp_path / "m.npz")
