@@ -34,6 +34,7 @@ from numba import njit
 from scipy.sparse.linalg import ArpackNoConvergence, LinearOperator, eigsh
 
 from .kinematics import contact_normal, rotate
+from .state import FIX_ROT, FIX_X, FIX_Y
 
 __all__ = ["contact_geometry", "largest_omega2", "TOL", "SMALL"]
 
@@ -93,8 +94,8 @@ def largest_omega2(c, s, p) -> float:
     if n == 0:
         return 0.0
     normal, arm_a, arm_b = contact_geometry(c, s)
-    free = np.column_stack([(p.fixity & 1) == 0, (p.fixity & 2) == 0,
-                            (p.fixity & 4) == 0]) & (p.active > 0)[:, None]
+    free = np.column_stack([(p.fixity & FIX_X) == 0, (p.fixity & FIX_Y) == 0,
+                            (p.fixity & FIX_ROT) == 0]) & (p.active > 0)[:, None]
     scale = np.where(free, np.sqrt(np.column_stack([p.inv_mass, p.inv_mass, p.inv_inertia])),
                      0.0).ravel()
     args = (c.block_a[:n], c.block_b[:n], c.kn[:n] * c.length[:n], c.ks[:n] * c.length[:n],

@@ -398,7 +398,8 @@ class Model:
         p.inv_inertia[:] = 1.0 / (p.inertia * scale)
         w2max = float(w2[moving].max()) if moving.any() else 0.0
         if self.step_estimate == "eigen" and moving.any():
-            w2max = self._eigen_omega2(guard / scale, (kt / p.mass + kr / p.inertia) / scale)
+            w2max = self._eigen_omega2(moving, guard / scale,
+                                       (kt / p.mass + kr / p.inertia) / scale)
         if not zone_kernels.is_empty(self.zone_state):
             w2max = max(w2max, self._zone_frequency(target))
         if w2max == 0 and support.has_nodes(self) and np.any(w2[p.active > 0] > 0):
@@ -413,7 +414,7 @@ class Model:
         elif self.dt is None:
             self.dt = None       # no contacts yet: cycle() will ask for a dt
 
-    def _eigen_omega2(self, guard, support_w2):
+    def _eigen_omega2(self, moving, guard, support_w2):
         """omega_max^2 for ``step_estimate="eigen"``: the largest eigenvalue of the contacts
         (``critical_step``), at least the new-contact guard of any free block that has no
         contact (a contact of its own size, as the bound takes it: it may meet one before
@@ -421,9 +422,9 @@ class Model:
         of a sum is at most the sum of the largest ones). A block's contacts within the
         search margin are all listed, so a block that has some needs no guard: a contact
         that closes before the next search is already counted, and the search that adds one
-        recomputes the step. ``guard``, ``support_w2``: per block, over the mass scale."""
+        recomputes the step. ``moving``: the free blocks with a bound (``_update_timestep``);
+        ``guard``, ``support_w2``: per block, over the mass scale."""
         p, c = self.props, self.contacts
-        moving = (p.active > 0) & (p.fixity != (FIX_X | FIX_Y | FIX_ROT))
         alone = moving.copy()
         alone[c.block_a[:c.n]] = False
         alone[c.block_b[:c.n]] = False
