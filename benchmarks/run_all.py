@@ -31,6 +31,10 @@ so a crash in one does not stop the rest:
                      and 4 mm; full: 8, 6, 4, 3 mm; the case's 1 g-step ramp, two processes)
 - bedding_demand.py  Adhikary beds' elastic shear demand against bedding cohesion, DEM and
                      continuum (docs/comparisons.md)
+- contact_pass_trials.py  three other shapes of the serial contact pass (one loop without
+                     the model's other paths, a vectorised law pass and a scatter pass, one
+                     row per block's pose) against the model's, 1e4 and 1e5 blocks (about
+                     2 min; issue 29 item 2, docs/performance.md)
 - numba_pipelines.py the contact kernel through numba's plain and parallel pipelines (ns per
                      contact, reference counts in the IR; docs/performance.md)
 - gravity_box.py     contact tension of bonded Voronoi rock under its own weight, rigid and
@@ -69,7 +73,8 @@ def main():
     jobs = [["error_vs_time.py", mode], ["stability_map.py", mode],
             ["critical_step_cost.py", mode], ["leave_out.py", mode],
             ["support_cost.py"], ["deformable_cost.py"],
-            ["performance.py", mode], ["performance.py", "--streams"], ["two_threads.py"], ["numba_pipelines.py"],
+            ["performance.py", mode], ["performance.py", "--streams"], ["two_threads.py"],
+            ["contact_pass_trials.py"], ["numba_pipelines.py"],
             ["lab_resolution.py", mode],
             ["centrifuge_resolution.py", "--edges", "0.008", "0.006", "0.004"]
             + (["0.003"] if a.full else []), ["bedding_demand.py"], ["gravity_box.py"],
