@@ -6,11 +6,17 @@
 The bonded Voronoi specimen of ``throughput.py`` (a square of 5 mm cells, 5 Lloyd iterations,
 on a fixed base under 50 g). For each size: the tessellation's wall time
 (``build_block_system``), the model's set-up time (``Model``: masses, contacts, stiffness,
-time step), the process's resident memory after each (and its peak), and ``--steps`` steps of
-``Model.cycle`` on one thread after a 20-step warm-up: ns per contact update. The largest size
-runs first, so the peak memory is its own. Issue 29's goals: tessellation under 5 minutes, the
-model under 8 GB, the same per-contact rate as at 1e5 blocks. Writes
-``benchmarks/results/million.json``.
+time step) and the process's resident memory after each; the largest size is built first, so
+the peak memory is its own, and the reference's memory is what it added. Then, with both
+models alive, ``--rounds`` alternating rounds of ``--steps`` steps of ``Model.cycle`` at the
+large size and ten times as many at the reference, on one thread: ns per contact update, and
+the ratio of each round's two rates (median and best reported), so both sizes see the same
+spells of the shared host. Each round also times ``performance._stream`` over each size's
+contact count (the contact pass's bytes through a loop of its shape, no block data): its
+1e6 / 1e5 ratio is what the memory system alone gives between the two footprints
+(docs/performance.md, "A million blocks"). Issue 29's goals: tessellation under 5 minutes,
+the model under 8 GB, the same per-contact rate as at 1e5 blocks. Writes
+``benchmarks/results/million.json`` and ``million.png``.
 """
 from __future__ import annotations
 
@@ -20,6 +26,8 @@ import os
 import resource
 import sys
 import time
+
+import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -48,7 +56,9 @@ def peak_gb() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024 / 1e9
 
 
-def one_size(n_blocks, steps):
+def build(n_blocks):
+    """The specimen's model at about ``n_blocks`` blocks after a 20-step warm-up, and its row:
+    tessellation and set-up seconds, resident memory before and after (GB)."""
     from dem_core.materials import Material
     from dem_core.model import Model
 
@@ -67,16 +77,16 @@ def one_size(n_blocks, steps):
     row["model_setup_s"] = round(time.perf_counter() - t0, 1)
     row["contacts"] = int(m.contacts.n)
     row["rss_with_model_gb"] = round(rss_gb(), 3)
+    row["peak_rss_gb"] = round(peak_gb(), 3)
     m.cycle(20)
+    return m, row
+
+
+def ns_per_update(m, steps) -> float:
+    """ns per contact update of ``steps`` steps of ``Model.cycle`` on ``m``."""
     t0 = time.perf_counter()
     m.cycle(steps)
-    sec = time.perf_counter() - t0
-    row.update(steps=steps, seconds=round(sec, 2),
-               ns_per_contact_update=round(1e9 * sec / (m.contacts.n * steps), 2),
-               rss_after_steps_gb=round(rss_gb(), 3), huge_pages_gb=round(huge_gb(), 3),
-               peak_rss_gb=round(peak_gb(), 3))
-    del m, bs
-    return row
+    return 1e9 * (time.perf_counter() - t0) / (m.contacts.n * steps)
 
 
 def main():
@@ -84,25 +94,102 @@ def main():
     ap.add_argument("--blocks", type=int, default=1_000_000)
     ap.add_argument("--reference", type=int, default=100_000,
                     help="the size whose per-contact rate is the reference")
-    ap.add_argument("--steps", type=int, default=30)
+    ap.add_argument("--steps", type=int, default=30,
+                    help="steps a round at --blocks (the reference: ten times as many)")
+    ap.add_argument("--rounds", type=int, default=5)
     ap.add_argument("--out", default=os.path.join(HERE, "results"))
     a = ap.parse_args()
     sys.path.insert(0, HERE)
+    from performance import contact_streams, stream_round, _stream
     from scenes import machine
-    rows = []
-    for n, steps in ((a.blocks, a.steps), (a.reference, 10 * a.steps)):
-        row = one_size(n, steps)
-        print(json.dumps(row), flush=True)
-        rows.append(row)
-    big, ref = rows
-    summary = {"machine": machine(), "rows": rows,
-               "rate_ratio": round(big["ns_per_contact_update"] / ref["ns_per_contact_update"], 3),
+    big_m, big = build(a.blocks)          # the largest first: the peak memory is its own
+    print(json.dumps(big), flush=True)
+    ref_m, ref = build(a.reference)
+    ref["rss_added_gb"] = round(rss_gb() - big["rss_with_model_gb"], 3)
+    print(json.dumps(ref), flush=True)
+    streams = {}
+    for row in (big, ref):
+        streams[row["blocks"]] = contact_streams(row["contacts"])
+        _stream(*streams[row["blocks"]])
+    # alternating rounds, so both sizes see the same spells of the host (it is shared)
+    for _ in range(a.rounds):
+        for row, m, steps in ((big, big_m, a.steps), (ref, ref_m, 10 * a.steps)):
+            row.setdefault("ns_per_contact_update", []).append(round(ns_per_update(m, steps), 2))
+            row.setdefault("stream_ns_per_contact", []).append(
+                round(stream_round(streams[row["blocks"]]), 2))
+    for row in (big, ref):
+        row.update(steps_a_round=a.steps * (1 if row is big else 10),
+                   huge_pages_gb=round(huge_gb(), 3))
+
+    def ratio(key, how):
+        pairs = zip(big[key], ref[key])
+        return round(float(how([x / y for x, y in pairs])), 3)
+    summary = {"machine": machine(), "rounds": a.rounds, "rows": [big, ref],
+               # each round's ratio (its two runs next to each other in time): median, best
+               "rate_ratio": ratio("ns_per_contact_update", np.median),
+               "rate_ratio_best": round(min(big["ns_per_contact_update"])
+                                        / min(ref["ns_per_contact_update"]), 3),
+               "stream_ratio": ratio("stream_ns_per_contact", np.median),
+               "stream_ratio_best": round(min(big["stream_ns_per_contact"])
+                                          / min(ref["stream_ns_per_contact"]), 3),
                "goals": {"tessellation_under_5_min": big["tessellation_s"] < 300,
                          "model_under_8_gb": big["peak_rss_gb"] < 8.0}}
-    print(json.dumps({k: summary[k] for k in ("rate_ratio", "goals")}))
+    print(json.dumps({k: summary[k] for k in summary if "ratio" in k or k == "goals"}))
     os.makedirs(a.out, exist_ok=True)
     with open(os.path.join(a.out, "million.json"), "w") as f:
         json.dump(summary, f, indent=1)
+    figure(summary, os.path.join(a.out, "million.png"))
+
+
+def figure(summary, path):
+    """Three panels, each size side by side against its goal: the tessellation and set-up
+    times (goal: tessellation under 5 minutes), the memory with the model and at its peak
+    (goal: under 8 GB), and the ns per contact update of the step and of the stream loop."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    rows = sorted(summary["rows"], key=lambda r: r["blocks"])
+    big = rows[-1]
+    names = [f"{r['blocks']:,} blocks" for r in rows]
+    x = range(len(rows))
+    fig, axes = plt.subplots(1, 3, figsize=(13, 4.2))
+    ax = axes[0]
+    ax.bar([i - 0.2 for i in x], [r["tessellation_s"] for r in rows], 0.4, label="tessellation")
+    ax.bar([i + 0.2 for i in x], [r["model_setup_s"] for r in rows], 0.4, label="model set-up")
+    ax.axhline(300, color="tab:red", ls="--", lw=1, label="goal: tessellation under 5 min")
+    ax.set_ylabel("seconds")
+    ax.set_title("time to build", fontsize=10)
+    ax = axes[1]
+    ax.bar([i - 0.2 for i in x], [r.get("rss_added_gb", r["rss_with_model_gb"]) for r in rows],
+           0.4, label="resident, the model (the smaller: what it added)")
+    ax.bar([len(rows) - 1 + 0.2], [big["peak_rss_gb"]], 0.4,
+           label="peak of the process (during the set-up)")
+    ax.axhline(8.0, color="tab:red", ls="--", lw=1, label="goal: model under 8 GB")
+    ax.set_ylabel("GB")
+    ax.set_title("memory", fontsize=10)
+    ax = axes[2]
+    for shift, key, label in (
+            (-0.2, "ns_per_contact_update", f"the step (large / small, median of the rounds: "
+                                            f"{summary['rate_ratio']:.2f}x)"),
+            (0.2, "stream_ns_per_contact", f"its bytes alone, stream loop "
+                                           f"({summary['stream_ratio']:.2f}x)")):
+        best = [min(r[key]) for r in rows]
+        med = [float(np.median(r[key])) for r in rows]
+        ax.bar([i + shift for i in x], best, 0.4, label=label)
+        ax.plot([i + shift for i in x], med, "_", color="k", ms=14)
+    ax.set_ylabel("ns per contact update, one thread\n(bar: best of the rounds; tick: median)")
+    ax.set_title("rate (goal: the same at both sizes)", fontsize=10)
+    for ax in axes:
+        ax.set_xticks(list(x), names, fontsize=8)
+        ax.legend(fontsize=7, loc="upper left")
+        ax.set_ylim(0, ax.get_ylim()[1] * 1.35)
+        ax.grid(axis="y", alpha=0.3)
+    fig.suptitle(f"Bonded Voronoi specimen, {summary['machine']['cpu']}, "
+                 f"{summary['machine']['date']}, {summary['rounds']} alternating rounds",
+                 fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
 
 
 if __name__ == "__main__":

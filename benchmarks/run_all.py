@@ -35,6 +35,9 @@ so a crash in one does not stop the rest:
                      the model's other paths, a vectorised law pass and a scatter pass, one
                      row per block's pose) against the model's, 1e4 and 1e5 blocks (about
                      2 min; issue 29 item 2, docs/performance.md)
+- million.py         a million blocks: tessellation time, memory and the per-contact rate
+                     against 1e5 blocks, with the stream loop's rate at both sizes (about
+                     6 min, 4 GB; issue 29 item 3, docs/performance.md)
 - numba_pipelines.py the contact kernel through numba's plain and parallel pipelines (ns per
                      contact, reference counts in the IR; docs/performance.md)
 - gravity_box.py     contact tension of bonded Voronoi rock under its own weight, rigid and
@@ -74,7 +77,7 @@ def main():
             ["critical_step_cost.py", mode], ["leave_out.py", mode],
             ["support_cost.py"], ["deformable_cost.py"],
             ["performance.py", mode], ["performance.py", "--streams"], ["two_threads.py"],
-            ["contact_pass_trials.py"], ["numba_pipelines.py"],
+            ["contact_pass_trials.py"], ["million.py"], ["numba_pipelines.py"],
             ["lab_resolution.py", mode],
             ["centrifuge_resolution.py", "--edges", "0.008", "0.006", "0.004"]
             + (["0.003"] if a.full else []), ["bedding_demand.py"], ["gravity_box.py"],
