@@ -1,6 +1,6 @@
 """Run every benchmark: JSON and PNG figures into benchmarks/results/.
 
-    .venv/bin/python benchmarks/run_all.py --quick     # about 55 min on 2 cores, most of it
+    .venv/bin/python benchmarks/run_all.py --quick     # about 65 min on 2 cores, most of it
                                                        # the Adhikary 4 mm run (2,591 s)
     .venv/bin/python benchmarks/run_all.py --full      # the full grids (longer still)
 
@@ -52,7 +52,9 @@ so a crash in one does not stop the rest:
   docs/comparisons.md), fewer_steps.py (early settling against today's search in the
   Adhikary ramp at 6 and 4 mm, each at 0.9, 1 and 1.1 times the steps a level: about 25 min;
   then settling with the step from the largest eigenvalue against those runs: about 15 min;
-  docs/performance.md, issue 29 item 4)
+  docs/performance.md, issue 29 item 4), case_steps.py (the six staged cases' quick DEM runs
+  on the bounded step and on the eigen step: steps, seconds and answers per case, about
+  15 min; issue 29 item 4)
 """
 from __future__ import annotations
 
@@ -94,7 +96,8 @@ def main():
                   str(HERE / "results" / "conventional_adhikary_plastic_5mm_refined.json")],
                  ["fewer_steps.py", "--edges", "0.006", "0.004", "--budgets", "0.9", "1", "1.1"],
                  ["fewer_steps.py", "--edges", "0.006", "0.004", "--budgets", "0.9", "1", "1.1",
-                  "--solver", '{"step_estimate": "eigen"}', "--today", "fewer_steps_budgets"]]
+                  "--solver", '{"step_estimate": "eigen"}', "--today", "fewer_steps_budgets"],
+                 ["case_steps.py"]]
     summary = []
     for job in jobs:
         t0 = time.perf_counter()

@@ -49,13 +49,13 @@ VARIANTS = {
     # cohesion at T = 0 in halvings, 10000 steps a level and after a failure (about 10 s)
     "quick": dict(edge_length=0.7, values=[25, 20, 15, 10, 0], cohesion_values=[150, 75, 0],
                   max_steps=10_000, post_failure_steps=10_000, conventional=False,
-                  continuum=True, continuum_h=3.0, workers=1, threads=1),
+                  continuum=True, continuum_h=3.0, workers=1, threads=1, solver={}),
     # full: 0.5 m cells (seven across), T in 5 kPa steps, the cohesion in 25-50 kPa steps, the
     # conventional model, 20000 steps a level and after a failure
     "full": dict(edge_length=0.5, values=[25, 20, 15, 10, 5, 0],
                  cohesion_values=[200, 150, 100, 50, 25, 0], max_steps=20_000,
                  post_failure_steps=20_000, conventional=True, continuum=True,
-                 continuum_h=1.5, workers=2, threads=1),
+                 continuum_h=1.5, workers=2, threads=1, solver={}),
 }
 
 
@@ -64,6 +64,8 @@ def members(v: dict, seed: int) -> list:
     out = [{"label": "damage model", "params": base, "v": v}]
     if v["conventional"]:
         out.append({"label": "conventional", "params": dict(base, conventional=True), "v": v})
+    for m in out:
+        m["solver"] = dict(v["solver"])
     return out
 
 
@@ -125,7 +127,7 @@ def run_continuum(v: dict, tensile: float) -> dict:
 
 def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
     """Run the case: ``variant`` is "quick", "full" or a settings mapping (``VARIANTS`` keys)."""
-    variant, v = pick_variant("coal_buckling", VARIANTS, variant)
+    variant, v = pick_variant("coal_buckling", VARIANTS, variant, optional={"solver": {}})
     progress = progress or (lambda message: None)
     result = CaseResult("coal_buckling", variant, seed, reference=dict(REFERENCE))
     runs = run_sweep(run_member, members(v, seed), workers=v["workers"], progress=progress)

@@ -62,11 +62,11 @@ VARIANTS = {
     # about 20 s on one core, the continuum at h = 15 m 5 s: about 35 s on 2 cores)
     "quick": dict(edge_length=8.0, relax_iterations=5, stage_blocks=MERGED, max_steps=20_000,
                   tensile=[0.1e6, 1.0e6], conventional=True, continuum=True, continuum_h=15.0,
-                  workers=2),
+                  workers=2, solver={}),
     # full: the thesis's 1.4 m flaws and the 15 blocks one by one
     "full": dict(edge_length=1.4, relax_iterations=20, stage_blocks=scene.ALL_BLOCKS,
                  max_steps=100_000, tensile=[0.1e6, 1.0e6], conventional=True, continuum=True,
-                 continuum_h=5.0, workers=2),
+                 continuum_h=5.0, workers=2, solver={}),
 }
 MPA = 1e6
 
@@ -80,6 +80,8 @@ def members(v: dict, seed: int) -> list:
     if v["conventional"]:
         out.append(dict(label="conventional", params=dict(base, tensile=v["tensile"][0],
                                                           conventional=True)))
+    for m in out:
+        m["solver"] = dict(v["solver"])
     return out
 
 
@@ -175,7 +177,7 @@ def _method(run: dict) -> dict:
 
 def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
     """Run the case: ``variant`` is "quick", "full" or a settings mapping (``VARIANTS`` keys)."""
-    variant, v = pick_variant("lornex", VARIANTS, variant)
+    variant, v = pick_variant("lornex", VARIANTS, variant, optional={"solver": {}})
     progress = progress or (lambda message: None)
     result = CaseResult("lornex", variant, seed, reference=dict(REFERENCE))
     ms = members(v, seed)

@@ -7,7 +7,9 @@ the flaws' tensile strength lowered until the slope fails; ``factor_of_safety``)
 runs it (``dem_core.stages.run_stages``), reports progress per stage and per level of a search
 (``comparisons.progress.report``, shown by the sweep), and returns:
 
-- ``label``, ``params`` (the member's, unchanged), ``blocks``, ``contacts``, ``runtime_s``;
+- ``label``, ``params`` (the member's, unchanged), ``blocks``, ``contacts``, ``runtime_s``,
+  ``critical_dt_start`` (s: the built model's critical step, ``Model.critical_dt``, before any
+  stage);
 - ``stages``: per stage kind, verdict, steps, wall seconds, each monitoring point's (ux, uy) (m)
   and the crack counts (tension, shear);
 - ``search``: the last search stage's levels, verdicts, steps and each point's ux and uy per
@@ -56,14 +58,17 @@ _PLANS = ("values", "f_levels", "g_levels")
 def stage_run(sc, member: dict, crack_materials=INTACT, stop_on_failure=False,
               poses=False, **model_options) -> dict:
     """Build the DEM model of scene ``sc`` and run its stages (module docstring). ``member``:
-    the sweep member (``label``, ``params``; ``threads`` optional, capped at numba's).
+    the sweep member (``label``, ``params``; ``threads`` optional, capped at numba's;
+    ``solver`` optional: Model options over the scene's, e.g. ``{"step_estimate": "eigen"}``,
+    the case's ``solver`` setting).
     ``stop_on_failure``: end after the first failed stage (module docstring).
     ``poses``: also return ``poses``, the blocks' (pos (nb, 2) m, theta (nb,) rad) after each
     stage that ran, as arrays (e.g. what moved during one stage).
     ``model_options`` override the scene's solver (``build_model``)."""
     t0 = time.perf_counter()
     threads = min(int(member.get("threads", 1)), numba.config.NUMBA_NUM_THREADS)
-    model = build_model(sc, threads=threads, **model_options)
+    model = build_model(sc, threads=threads, **{**member.get("solver", {}), **model_options})
+    critical_dt = float(model.critical_dt)     # of the built model, before any stage
     check_stages(sc.stages, set(model.blocks.groups), model.materials)
     n, finished, pose_log = len(sc.stages), [], []
 
@@ -90,6 +95,7 @@ def stage_run(sc, member: dict, crack_materials=INTACT, stop_on_failure=False,
     return {
         "label": member["label"], "params": member["params"],
         "blocks": int(model.blocks.n_blocks), "contacts": int(model.contacts.n),
+        "critical_dt_start": critical_dt,
         "stages": [{"kind": r.kind, "verdict": r.verdict, "steps": int(r.steps),
                     "seconds": float(r.seconds), "points": {k: list(v) for k, v in
                                                             r.points.items()},

@@ -1,0 +1,50 @@
+"""Every DEM case takes a ``solver`` setting: Model options over its scenes' for every run
+(e.g. ``{"step_estimate": "eigen"}``), carried by each sweep member to the model it builds."""
+import importlib
+
+import pytest
+
+from comparisons import staged
+from comparisons.cli import custom_variant
+
+STAGED = ["checkerboard", "coal_buckling", "common_toppling", "highwood", "lornex", "underdip"]
+EIGEN = {"step_estimate": "eigen"}
+
+
+@pytest.mark.parametrize("name", STAGED + ["adhikary", "longtan"])
+def test_every_variant_has_a_solver_setting(name):
+    """(adhikary's and longtan's quick variants run on the eigen step; the others on the
+    scenes' own solver)"""
+    case = importlib.import_module(f"comparisons.{name}")
+    for v in case.VARIANTS.values():
+        assert isinstance(v["solver"], dict)
+        assert v["solver"] == {} or name in ("adhikary", "longtan")
+
+
+@pytest.mark.parametrize("name", STAGED)
+def test_each_member_carries_the_variants_solver(name):
+    case = importlib.import_module(f"comparisons.{name}")
+    v = custom_variant(case, "quick", ['solver={"step_estimate": "eigen"}'])
+    members = case.members(v, 1)
+    assert members and all(m["solver"] == EIGEN for m in members)
+
+
+class _Built(Exception):
+    pass
+
+
+def test_stage_run_builds_the_model_with_the_members_solver(monkeypatch):
+    seen = {}
+
+    def build(sc, **options):
+        seen.update(options)
+        raise _Built
+    monkeypatch.setattr(staged, "build_model", build)
+    with pytest.raises(_Built):
+        staged.stage_run(None, {"label": "x", "params": {}, "solver": EIGEN})
+    assert seen == {"threads": 1, **EIGEN}
+    seen.clear()
+    with pytest.raises(_Built):                      # the caller's own options win
+        staged.stage_run(None, {"label": "x", "params": {}, "solver": EIGEN},
+                         step_estimate="bound")
+    assert seen["step_estimate"] == "bound"
