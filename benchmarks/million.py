@@ -14,13 +14,16 @@ the ratio of each round's two rates (median and best reported), so both sizes se
 spells of the shared host. Each round also times ``performance._stream`` over each size's
 contact count (the contact pass's bytes through a loop of its shape, no block data): its
 1e6 / 1e5 ratio is what the memory system alone gives between the two footprints
-(docs/performance.md, "A million blocks"). Issue 29's goals: tessellation under 5 minutes,
+(docs/performance.md, "A million blocks"); and it times the model's serial contact pass on the
+reference's contacts and blocks, once as they are and once copied side by side to the large
+size (``tiled``): the size of the contact streams with the reference's locality. Issue 29's goals: tessellation under 5 minutes,
 the model under 8 GB, the same per-contact rate as at 1e5 blocks. Writes
 ``benchmarks/results/million.json`` and ``million.png``.
 """
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import os
 import resource
@@ -89,6 +92,53 @@ def ns_per_update(m, steps) -> float:
     return 1e9 * (time.perf_counter() - t0) / (m.contacts.n * steps)
 
 
+def tiled(m, copies):
+    """The contacts and blocks of model ``m`` copied ``copies`` times side by side in memory
+    (the i-th copy's blocks numbered after the (i-1)-th's, no contact between copies): a
+    (Contacts, BlockState) pair as large as a model ``copies`` times bigger, with ``m``'s
+    locality. What the size of the contact streams alone costs the contact pass."""
+    c, s, nb = m.contacts, m.state, m.n_blocks
+    n = int(c.count[0])
+    fields = {}
+    for name in c._fields:
+        x = getattr(c, name)
+        if name == "count":
+            fields[name] = np.array([n * copies], x.dtype)
+        elif name in ("block_a", "block_b"):
+            fields[name] = np.concatenate([x[:n] + i * nb for i in range(copies)]).astype(x.dtype)
+        elif name == "partner":
+            fields[name] = np.concatenate([np.where(x[:n] >= 0, x[:n] + i * n, -1)
+                                           for i in range(copies)]).astype(x.dtype)
+        else:
+            fields[name] = np.ascontiguousarray(np.concatenate([x[:n]] * copies))
+    blocks = {name: np.ascontiguousarray(np.concatenate([getattr(s, name)] * copies))
+              for name in s._fields}
+    return type(c)(**fields), type(s)(**blocks)
+
+
+def contact_pass_ns(c, s, m, reps) -> float:
+    """ns per contact of ``reps`` calls of the model's serial contact pass
+    (``forces.add_contact_forces``) on contacts ``c`` and blocks ``s`` of ``m``'s materials."""
+    t0 = time.perf_counter()
+    _contact_passes()(reps, c, m.table.strength_array(), s, m.cracks, m.corners, m.zone_state)
+    return 1e9 * (time.perf_counter() - t0) / (reps * int(c.count[0]))
+
+
+@functools.lru_cache(maxsize=None)
+def _contact_passes():
+    """A compiled loop of ``reps`` serial contact passes (built on first use)."""
+    from numba import njit
+
+    from dem_core.forces import add_contact_forces
+
+    @njit
+    def passes(reps, c, strength, s, cracks, rnd, dfm):
+        for _ in range(reps):
+            s.force[:] = 0.0
+            add_contact_forces(c, strength, s, cracks, 0.0, rnd, False, dfm)
+    return passes
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--blocks", type=int, default=1_000_000)
@@ -111,12 +161,20 @@ def main():
     for row in (big, ref):
         streams[row["blocks"]] = contact_streams(row["contacts"])
         _stream(*streams[row["blocks"]])
+    copies = max(1, round(big["contacts"] / ref["contacts"]))
+    one = (ref_m.contacts, ref_m.state)
+    many = tiled(ref_m, copies)
+    contact_pass_ns(*one, ref_m, 1)              # compiled (or loaded) before the rounds
     # alternating rounds, so both sizes see the same spells of the host (it is shared)
     for _ in range(a.rounds):
         for row, m, steps in ((big, big_m, a.steps), (ref, ref_m, 10 * a.steps)):
             row.setdefault("ns_per_contact_update", []).append(round(ns_per_update(m, steps), 2))
             row.setdefault("stream_ns_per_contact", []).append(
                 round(stream_round(streams[row["blocks"]]), 2))
+        for key, (c, s) in (("tiled", many), ("one_copy", one)):
+            ref.setdefault(f"contact_pass_ns_{key}", []).append(
+                round(contact_pass_ns(c, s, ref_m, max(1, int(2e7 // int(c.count[0])))), 2))
+    ref["tiled_copies"] = copies
     for row in (big, ref):
         row.update(steps_a_round=a.steps * (1 if row is big else 10),
                    huge_pages_gb=round(huge_gb(), 3))
@@ -132,6 +190,12 @@ def main():
                "stream_ratio": ratio("stream_ns_per_contact", np.median),
                "stream_ratio_best": round(min(big["stream_ns_per_contact"])
                                           / min(ref["stream_ns_per_contact"]), 3),
+               # the model's contact pass on the reference copied to the large size / on one
+               "tiled_ratio": round(float(np.median(
+                   [x / y for x, y in zip(ref["contact_pass_ns_tiled"],
+                                          ref["contact_pass_ns_one_copy"])])), 3),
+               "tiled_ratio_best": round(min(ref["contact_pass_ns_tiled"])
+                                         / min(ref["contact_pass_ns_one_copy"]), 3),
                "goals": {"tessellation_under_5_min": big["tessellation_s"] < 300,
                          "model_under_8_gb": big["peak_rss_gb"] < 8.0}}
     print(json.dumps({k: summary[k] for k in summary if "ratio" in k or k == "goals"}))
@@ -178,7 +242,11 @@ def figure(summary, path):
         ax.bar([i + shift for i in x], best, 0.4, label=label)
         ax.plot([i + shift for i in x], med, "_", color="k", ms=14)
     ax.set_ylabel("ns per contact update, one thread\n(bar: best of the rounds; tick: median)")
-    ax.set_title("rate (goal: the same at both sizes)", fontsize=10)
+    title = "rate (goal: the same at both sizes)"
+    if "tiled_ratio" in summary:
+        title += (f"\nthe smaller model's contact pass, copied\nto the large size / one "
+                  f"copy: {summary['tiled_ratio']:.2f}x")
+    ax.set_title(title, fontsize=9)
     for ax in axes:
         ax.set_xticks(list(x), names, fontsize=8)
         ax.legend(fontsize=7, loc="upper left")
