@@ -226,11 +226,11 @@ def figure(out, path):
 
 def trial(n_blocks, rounds):
     """One specimen of about ``n_blocks`` blocks: the trials' bit-for-bit check and times."""
-    from dem_core.forces import add_contact_forces
     from dem_core.materials import Material
     from dem_core.model import Model
     from scenes import machine
     from throughput import specimen
+    from two_threads import _loops
 
     flaw = Material(kn=40e9, ks=20e9, tensile_strength=1.1e6, cohesion=1.2e6, friction=37)
     m = Model(specimen(n_blocks), {"flaw:*": flaw, "boundary:*": flaw}, density=1700,
@@ -254,11 +254,7 @@ def trial(n_blocks, rounds):
         law_pass(*flat)                        # compiled here, with the flag
     vectorised = "vector.body" in law_pass.inspect_llvm(law_pass.signatures[0])
 
-    @njit
-    def model(reps, c, strength, s, cracks, rnd, dfm):
-        for _ in range(reps):
-            s.force[:] = 0.0
-            add_contact_forces(c, strength, s, cracks, 0.0, rnd, False, dfm)
+    model = _loops()[0]                          # the model's serial contact pass
 
     @njit
     def two_pass(reps, flat_tail, f):

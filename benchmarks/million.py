@@ -120,23 +120,15 @@ def contact_pass_ns(c, s, m, reps) -> float:
     """ns per contact of ``reps`` calls of the model's serial contact pass
     (``forces.add_contact_forces``) on contacts ``c`` and blocks ``s`` of ``m``'s materials."""
     t0 = time.perf_counter()
-    _contact_passes()(reps, c, m.table.strength_array(), s, m.cracks, m.corners, m.zone_state)
+    _contacts_serial()(reps, c, m.table.strength_array(), s, m.cracks, m.corners, m.zone_state)
     return 1e9 * (time.perf_counter() - t0) / (reps * int(c.count[0]))
 
 
 @functools.lru_cache(maxsize=None)
-def _contact_passes():
-    """A compiled loop of ``reps`` serial contact passes (built on first use)."""
-    from numba import njit
-
-    from dem_core.forces import add_contact_forces
-
-    @njit
-    def passes(reps, c, strength, s, cracks, rnd, dfm):
-        for _ in range(reps):
-            s.force[:] = 0.0
-            add_contact_forces(c, strength, s, cracks, 0.0, rnd, False, dfm)
-    return passes
+def _contacts_serial():
+    """``two_threads``'s loop of serial contact passes, built once (compiled on first call)."""
+    from two_threads import _loops
+    return _loops()[0]
 
 
 def main():
