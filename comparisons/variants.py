@@ -17,7 +17,7 @@ def pick_variant(case: str, variants: dict, variant, optional=None) -> tuple:
         if variant not in variants:
             raise ValueError(f"{case}: variant must be one of {sorted(variants)} or a settings "
                              f"mapping, got {variant!r}")
-        return variant, dict(variants[variant])
+        return variant, _checked(case, dict(variants[variant]))
     if not isinstance(variant, dict):
         raise ValueError(f"{case}: variant must be a name or a settings mapping, got "
                          f"{type(variant).__name__}")
@@ -28,4 +28,18 @@ def pick_variant(case: str, variants: dict, variant, optional=None) -> tuple:
     if missing or unknown:
         raise ValueError(f"{case}: custom variant has unknown settings {sorted(unknown)} and "
                          f"lacks {sorted(missing)}")
-    return "custom", {**optional, **variant}
+    return "custom", _checked(case, {**optional, **variant})
+
+
+def _checked(case: str, settings: dict) -> dict:
+    """``settings``, its ``solver`` (if any) checked against the Model options a scene takes
+    (``dem_core.scene.SOLVER_KEYS``): a bad one is named before any run starts."""
+    from dem_core.scene import SOLVER_KEYS
+    solver = settings.get("solver", {})
+    if not isinstance(solver, dict):
+        raise ValueError(f"{case}: solver must be a mapping of Model options, got {solver!r}")
+    unknown = set(solver) - SOLVER_KEYS
+    if unknown:
+        raise ValueError(f"{case}: unknown solver option(s) {sorted(unknown)}; allowed: "
+                         f"{sorted(SOLVER_KEYS)}")
+    return settings

@@ -30,3 +30,10 @@ def test_a_given_optional_setting_is_kept():
 def test_a_custom_variant_with_other_keys_is_refused(custom, words):
     with pytest.raises(ValueError, match=words.replace("[", r"\[").replace("]", r"\]")):
         pick_variant("case", VARIANTS, custom)
+
+
+@pytest.mark.parametrize("solver, words", [({"step_estimat": "eigen"}, "step_estimat"),
+                                           ("eigen", "must be a mapping")])
+def test_a_bad_solver_setting_is_named_before_any_run(solver, words):
+    with pytest.raises(ValueError, match=words):
+        pick_variant("case", VARIANTS, dict(edge=0.02, solver=solver))
