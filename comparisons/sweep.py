@@ -6,7 +6,13 @@
   pool has at most ``local_workers()`` processes: the cores this process may use, or
   ``COMPARISONS_WORKERS`` where that is set (e.g. 1 on a machine shared with other jobs, or in
   each of pytest-xdist's workers, ``tests/conftest.py``), so a sweep never runs more members
-  side by side than there are cores for them.
+  side by side than there are cores for them. Each pool process's BLAS and OpenMP thread pools
+  (numpy's OpenBLAS; the OpenMP runtime DOLFINx and PETSc load) are cut to its share of the
+  cores, ``pool_threads(workers)``, with ``threadpoolctl``; libraries a member loads later read
+  ``OMP_NUM_THREADS`` and ``OPENBLAS_NUM_THREADS``, which the pool process sets to the same
+  share unless they are set. Left at a thread per core, every process of the pool starts one
+  and they oversubscribe the cores (docs/performance.md, "BLAS threads in a sweep's pool").
+  numba's threads are the members' own (``Model(threads=n)``).
 
 Each member is a pure function of its parameters (seeds included), so the results are the same
 whichever way they ran, and they come back in the order of ``params``.
@@ -59,6 +65,12 @@ def local_workers() -> int:
     if not value.strip().isdigit() or int(value) < 1:
         raise ValueError(f"COMPARISONS_WORKERS must be a whole number >= 1, got {value!r}")
     return int(value)
+
+
+def pool_threads(workers: int) -> int:
+    """The BLAS/OpenMP threads each of ``workers`` pool processes may start: its share of
+    ``usable_cores()``, at least one."""
+    return max(1, usable_cores() // max(1, int(workers)))
 
 
 def run_sweep(function: Callable, params: Sequence, workers: int = 1, progress=None) -> list:
@@ -124,8 +136,8 @@ def _execute(function, params, todo, workers, done, who, board):
     workers = min(workers, local_workers())
     if workers > 1 and len(todo) > 1:
         with _reports_from_pool(board) as queue:
-            with ProcessPoolExecutor(max_workers=workers, initializer=_progress.worker_init,
-                                     initargs=(queue,)) as pool:
+            with ProcessPoolExecutor(max_workers=workers, initializer=_worker_init,
+                                     initargs=(queue, pool_threads(workers))) as pool:
                 return _pooled(pool, function, params, todo, done, f"{workers} processes",
                                who, "queue" if queue is not None else None)
     for i in todo:
@@ -136,6 +148,21 @@ def _execute(function, params, todo, workers, done, who, board):
             done(i, "serial", error=error)
             continue
         done(i, "serial", result)
+
+
+def _worker_init(queue, threads):
+    """A local pool process's start: its reports go to ``queue`` (``progress.worker_init``),
+    its BLAS and OpenMP pools have at most ``threads`` threads (module docstring)."""
+    from threadpoolctl import threadpool_limits
+
+    _progress.worker_init(queue)
+    for name in _THREAD_VARIABLES:                  # read by the libraries loaded from now on
+        os.environ.setdefault(name, str(threads))
+    threadpool_limits(limits=threads)               # those loaded already (members run in
+    #                                                 this thread: OpenMP's limit is a thread's)
+
+
+_THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
 
 
 def _pooled(pool, function, params, todo, done, how, who, send):

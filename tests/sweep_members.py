@@ -25,6 +25,17 @@ def member_pid(_member) -> int:
     return os.getpid()
 
 
+def member_threads(_member) -> dict:
+    """The BLAS/OpenMP threads the process a member runs in may start: each loaded library's
+    limit (threadpoolctl) and ``OMP_NUM_THREADS`` (tests/test_sweep_workers.py)."""
+    import os
+
+    from threadpoolctl import threadpool_info
+
+    return {"pools": [lib["num_threads"] for lib in threadpool_info()],
+            "omp_num_threads": os.environ.get("OMP_NUM_THREADS")}
+
+
 if __name__ == "__main__":             # run under mpirun by the test: prints the sweep as JSON
     import json
 

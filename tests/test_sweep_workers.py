@@ -4,8 +4,8 @@ import os
 
 import pytest
 
-from comparisons.sweep import local_workers, run_sweep, usable_cores
-from sweep_members import member_pid
+from comparisons.sweep import local_workers, pool_threads, run_sweep, usable_cores
+from sweep_members import member_pid, member_threads
 
 
 def test_comparisons_workers_caps_the_pool(monkeypatch):
@@ -28,3 +28,22 @@ def test_a_bad_value_is_named(monkeypatch, bad):
     monkeypatch.setenv("COMPARISONS_WORKERS", bad)
     with pytest.raises(ValueError, match=f"COMPARISONS_WORKERS.*{bad!r}"):
         local_workers()
+
+
+@pytest.mark.skipif(usable_cores() < 2, reason="a pool needs two cores")
+def test_pool_processes_share_the_cores_among_their_blas_threads(monkeypatch):
+    from threadpoolctl import threadpool_limits
+
+    for name in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+        monkeypatch.delenv(name, raising=False)
+    monkeypatch.setenv("COMPARISONS_WORKERS", "2")
+    cores = usable_cores()
+    with threadpool_limits(limits=cores):          # this process: a thread per core
+        here = member_threads(0)
+        pooled = run_sweep(member_threads, [1, 2], workers=2)
+    assert max(here["pools"]) == cores and here["omp_num_threads"] is None
+    share = pool_threads(2)
+    assert share == cores // 2
+    for member in pooled:                           # each of two processes: half the cores
+        assert member["pools"] and max(member["pools"]) == share
+        assert member["omp_num_threads"] == str(share)
