@@ -43,7 +43,7 @@ from comparisons.centrifuge import cracks_figure
 from comparisons.results import CaseResult, Curve
 from comparisons.scenes import checkerboard as scene
 from comparisons.sweep import run_sweep
-from comparisons.variants import pick_variant
+from comparisons.variants import STAGED_OPTIONAL, pick_variant
 from dem_core.loading import Displace
 from dem_core.stages import Solve
 from dem_core.strength import StrengthSchedule
@@ -85,7 +85,7 @@ VARIANTS = {
     "quick": dict(params=_COMMON, ucs=[76e6, 50e6, 30e6], base_steps=20_000, level_steps=20_000,
                   t_levels=(1.5, 1.0, 0.65, 0.35, 0.1, 0.0), support=True, shotcrete=True,
                   weathering=True, conventional=True, continuum=True, continuum_h=20.0,
-                  continuum_window=None, workers=2, solver={}),
+                  continuum_window=None, workers=2, solver={}, settle=False),
     # full: the whole 4000 m x 3100 m section, 1.3 m flaws near the cut (4,644 blocks),
     # Table 7.4's UCS set; 17-32 minutes a member on two workers. Run 2026-11-26: the cut zone
     # breaks 8,000-13,000 bonds when the weathered strengths are set, before T is lowered, so
@@ -96,7 +96,7 @@ VARIANTS = {
                  conventional=True, continuum=True, continuum_h=5.0, workers=2,
                  # the whole section did not come to gravity equilibrium in continuum_ref
                  # (measured): the continuum runs on the quick window, 5 m near the cut
-                 continuum_window=_COMMON["window"], solver={}),
+                 continuum_window=_COMMON["window"], solver={}, settle=False),
 }
 
 
@@ -186,7 +186,7 @@ def members(v, seed) -> list:
                     "params": dict(v["params"], seed=seed, ucs=min(v["ucs"]),
                                    conventional=True)})
     for m in out:
-        m["solver"] = dict(v["solver"])
+        m["solver"], m["settle"] = dict(v["solver"]), v["settle"]
     return out
 
 
@@ -202,7 +202,7 @@ def weakening_displacement(run, point) -> float:
 
 def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
     """Run the case: ``variant`` is "quick", "full" or a settings mapping (``VARIANTS`` keys)."""
-    variant, v = pick_variant("checkerboard", VARIANTS, variant, optional={"solver": {}})
+    variant, v = pick_variant("checkerboard", VARIANTS, variant, optional=STAGED_OPTIONAL)
     progress = progress or (lambda message: None)
     result = CaseResult("checkerboard", variant, seed, reference=dict(REFERENCE))
     mem = members(v, seed)

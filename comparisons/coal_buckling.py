@@ -28,7 +28,7 @@ from comparisons import centrifuge, chapter5, staged
 from comparisons.results import CaseResult, Curve
 from comparisons.scenes import coal_buckling as scene
 from comparisons.sweep import run_sweep
-from comparisons.variants import pick_variant
+from comparisons.variants import STAGED_OPTIONAL, pick_variant
 
 DESCRIPTION = ("Footwall buckling, 75 m open-pit coal slope at 30 degrees (Stead & Eberhardt "
                "1997, thesis 5.3.2): layer tensile strength lowered to failure; damage model "
@@ -49,13 +49,13 @@ VARIANTS = {
     # cohesion at T = 0 in halvings, 10000 steps a level and after a failure (about 10 s)
     "quick": dict(edge_length=0.7, values=[25, 20, 15, 10, 0], cohesion_values=[150, 75, 0],
                   max_steps=10_000, post_failure_steps=10_000, conventional=False,
-                  continuum=True, continuum_h=3.0, workers=1, threads=1, solver={}),
+                  continuum=True, continuum_h=3.0, workers=1, threads=1, solver={}, settle=False),
     # full: 0.5 m cells (seven across), T in 5 kPa steps, the cohesion in 25-50 kPa steps, the
     # conventional model, 20000 steps a level and after a failure
     "full": dict(edge_length=0.5, values=[25, 20, 15, 10, 5, 0],
                  cohesion_values=[200, 150, 100, 50, 25, 0], max_steps=20_000,
                  post_failure_steps=20_000, conventional=True, continuum=True,
-                 continuum_h=1.5, workers=2, threads=1, solver={}),
+                 continuum_h=1.5, workers=2, threads=1, solver={}, settle=False),
 }
 
 
@@ -65,7 +65,7 @@ def members(v: dict, seed: int) -> list:
     if v["conventional"]:
         out.append({"label": "conventional", "params": dict(base, conventional=True), "v": v})
     for m in out:
-        m["solver"] = dict(v["solver"])
+        m["solver"], m["settle"] = dict(v["solver"]), v["settle"]
     return out
 
 
@@ -127,7 +127,7 @@ def run_continuum(v: dict, tensile: float) -> dict:
 
 def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
     """Run the case: ``variant`` is "quick", "full" or a settings mapping (``VARIANTS`` keys)."""
-    variant, v = pick_variant("coal_buckling", VARIANTS, variant, optional={"solver": {}})
+    variant, v = pick_variant("coal_buckling", VARIANTS, variant, optional=STAGED_OPTIONAL)
     progress = progress or (lambda message: None)
     result = CaseResult("coal_buckling", variant, seed, reference=dict(REFERENCE))
     runs = run_sweep(run_member, members(v, seed), workers=v["workers"], progress=progress)

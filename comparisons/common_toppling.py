@@ -45,7 +45,7 @@ from comparisons.results import CaseResult, Curve
 from comparisons.scenes import common_toppling as scene
 from comparisons.staged import stage_run
 from comparisons.sweep import run_sweep
-from comparisons.variants import pick_variant
+from comparisons.variants import STAGED_OPTIONAL, pick_variant
 from dem_core.stages import ChangeMaterial, Excavate, Gravity, Solve
 from dem_core.strength import StrengthSchedule
 
@@ -79,7 +79,7 @@ VARIANTS = {
                   t_values=[7e6, 4e6, 2e6, 1e6, 0.5e6, 0.25e6], refine_to=0.25e6,
                   studies=["friction 50", "cohesion 15"], conventional=True,
                   hc_tensile=[0.25e6, 1e6], max_steps=40_000, continuum=True,
-                  continuum_h=8.0, workers=2, solver={}),
+                  continuum_h=8.0, workers=2, solver={}, settle=False),
     # full: the thesis's three models, 1 m flaws in a 30 m zone, T in 0.5 MPa steps bisected
     # to 0.05 MPa, Hc at T = 1..5 MPa (and the quick's 0.25 MPa: the assumed slope needs less)
     "full": dict(spacings=[6.0, 3.0, 1.5], edge_length=1.0, zone_depth=30.0,
@@ -88,7 +88,7 @@ VARIANTS = {
                            0.1e6],
                  refine_to=0.05e6, studies=["friction 50", "cohesion 15"], conventional=True,
                  hc_tensile=[0.25e6, 1e6, 2e6, 3e6, 4e6, 5e6], max_steps=100_000,
-                 continuum=True, continuum_h=4.0, workers=2, solver={}),
+                 continuum=True, continuum_h=4.0, workers=2, solver={}, settle=False),
 }
 
 STUDIES = {"friction 50": dict(flaw_friction=50.0), "cohesion 15": dict(flaw_cohesion=15e6)}
@@ -178,13 +178,13 @@ def members(v: dict, seed: int) -> list:
             out.append(dict(label=f"Hc {s:g} m, T={t / MPA:g}", study="height", v=vv,
                             params=dict(geo, spacing=s, flaw_tensile=t, **TABLE_5_3)))
     for m in out:
-        m["solver"] = dict(v["solver"])
+        m["solver"], m["settle"] = dict(v["solver"]), v["settle"]
     return out
 
 
 def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
     """Run the case: ``variant`` is "quick", "full" or a settings mapping (``VARIANTS`` keys)."""
-    variant, v = pick_variant("common_toppling", VARIANTS, variant, optional={"solver": {}})
+    variant, v = pick_variant("common_toppling", VARIANTS, variant, optional=STAGED_OPTIONAL)
     progress = progress or (lambda message: None)
     result = CaseResult("common_toppling", variant, seed, reference=dict(REFERENCE))
     ms = members(v, seed)

@@ -31,7 +31,7 @@ from comparisons.results import CaseResult, Curve
 from comparisons.scenes import lornex as scene
 from comparisons.staged import INTACT, stage_run
 from comparisons.sweep import run_sweep
-from comparisons.variants import pick_variant
+from comparisons.variants import STAGED_OPTIONAL, pick_variant
 
 DESCRIPTION = ("Lornex pit south-east wall, Highland Valley Copper (thesis ch. 6): block "
                "toppling under 15 mining blocks against prism records (Table 6.4); damage model "
@@ -62,11 +62,11 @@ VARIANTS = {
     # about 20 s on one core, the continuum at h = 15 m 5 s: about 35 s on 2 cores)
     "quick": dict(edge_length=8.0, relax_iterations=5, stage_blocks=MERGED, max_steps=20_000,
                   tensile=[0.1e6, 1.0e6], conventional=True, continuum=True, continuum_h=15.0,
-                  workers=2, solver={}),
+                  workers=2, solver={}, settle=False),
     # full: the thesis's 1.4 m flaws and the 15 blocks one by one
     "full": dict(edge_length=1.4, relax_iterations=20, stage_blocks=scene.ALL_BLOCKS,
                  max_steps=100_000, tensile=[0.1e6, 1.0e6], conventional=True, continuum=True,
-                 continuum_h=5.0, workers=2, solver={}),
+                 continuum_h=5.0, workers=2, solver={}, settle=False),
 }
 MPA = 1e6
 
@@ -81,7 +81,7 @@ def members(v: dict, seed: int) -> list:
         out.append(dict(label="conventional", params=dict(base, tensile=v["tensile"][0],
                                                           conventional=True)))
     for m in out:
-        m["solver"] = dict(v["solver"])
+        m["solver"], m["settle"] = dict(v["solver"]), v["settle"]
     return out
 
 
@@ -177,7 +177,7 @@ def _method(run: dict) -> dict:
 
 def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
     """Run the case: ``variant`` is "quick", "full" or a settings mapping (``VARIANTS`` keys)."""
-    variant, v = pick_variant("lornex", VARIANTS, variant, optional={"solver": {}})
+    variant, v = pick_variant("lornex", VARIANTS, variant, optional=STAGED_OPTIONAL)
     progress = progress or (lambda message: None)
     result = CaseResult("lornex", variant, seed, reference=dict(REFERENCE))
     ms = members(v, seed)

@@ -47,8 +47,8 @@ from dem_core.plot import block_picture
 from dem_core.scene import build_model
 from dem_core.stages import check_stages, run_stages
 
-__all__ = ["INTACT", "stage_run", "search_rows", "history_figure", "coincident_rims",
-           "curve_styles", "value_at_failure"]
+__all__ = ["INTACT", "stage_run", "settled_stages", "search_rows", "history_figure",
+           "coincident_rims", "curve_styles", "value_at_failure"]
 
 INTACT = ("flaw:", "boundary:")        # bonds through intact rock (not joints)
 _SEARCH_KEYS = ("search", "ramp")
@@ -60,7 +60,8 @@ def stage_run(sc, member: dict, crack_materials=INTACT, stop_on_failure=False,
     """Build the DEM model of scene ``sc`` and run its stages (module docstring). ``member``:
     the sweep member (``label``, ``params``; ``threads`` optional, capped at numba's;
     ``solver`` optional: Model options over the scene's, e.g. ``{"step_estimate": "eigen"}``,
-    the case's ``solver`` setting).
+    the case's ``solver`` setting; ``settle`` optional: True stops every solve and every level
+    of a search that can settle early once settled, ``settled_stages``).
     ``stop_on_failure``: end after the first failed stage (module docstring).
     ``poses``: also return ``poses``, the blocks' (pos (nb, 2) m, theta (nb,) rad) after each
     stage that ran, as arrays (e.g. what moved during one stage).
@@ -85,10 +86,11 @@ def stage_run(sc, member: dict, crack_materials=INTACT, stop_on_failure=False,
         report(f"stage {i} {text}", int(np.sum(rec.steps)), left,
                elapsed=time.perf_counter() - t0)
 
+    stages = settled_stages(sc.stages) if member.get("settle") else sc.stages
     if stop_on_failure:
-        out_records = _until_failure(model, sc.stages, on_stage, on_level)
+        out_records = _until_failure(model, stages, on_stage, on_level)
     else:
-        out_records = run_stages(model, sc.stages, progress=on_stage, on_level=on_level)
+        out_records = run_stages(model, stages, progress=on_stage, on_level=on_level)
     log = model.crack_log()
     keep = np.array([str(m).startswith(tuple(crack_materials)) for m in log["material"]],
                     bool)
@@ -110,6 +112,16 @@ def stage_run(sc, member: dict, crack_materials=INTACT, stop_on_failure=False,
         "runtime_s": time.perf_counter() - t0,
         **({"poses": pose_log} if poses else {}),
     }
+
+
+def settled_stages(stages) -> list:
+    """The stages with ``settle=True`` wherever a stage has that option (solves, g-ramps,
+    strength searches): each ends a solve or level early as "settled" once its displacement
+    has stopped growing and no bond broke (``dem_core.monitor.settled``)."""
+    return [dataclasses.replace(st, settle=True)
+            if dataclasses.is_dataclass(st) and
+            any(f.name == "settle" for f in dataclasses.fields(st)) else st
+            for st in stages]
 
 
 def _until_failure(model, stages, on_stage, on_level) -> list:

@@ -29,7 +29,7 @@ from comparisons import centrifuge, chapter5, staged
 from comparisons.results import CaseResult, Curve
 from comparisons.scenes import underdip as scene
 from comparisons.sweep import run_sweep
-from comparisons.variants import pick_variant
+from comparisons.variants import STAGED_OPTIONAL, pick_variant
 
 DESCRIPTION = ("Underdip toppling, 75 m bedded slope (Cruden & Hu 1994, thesis 5.2.1): flaw "
                "tensile strength lowered to collapse; damage model vs conventional vs continuum")
@@ -52,7 +52,8 @@ VARIANTS = {
     "quick": dict(edge_length=1.5, zone_depth=25.0, values=[40, 20, 10, 0],
                   cohesion_values=[300, 150, 75, 0], max_steps=8000,
                   post_failure_steps=10_000, jitters=[0.0], extra_zone_depths=[],
-                  conventional=False, continuum=True, continuum_h=6.0, workers=1, threads=1, solver={}),
+                  conventional=False, continuum=True, continuum_h=6.0, workers=1, threads=1,
+                  solver={}, settle=False),
     # full: 1.0 m cells (bricks about one bed thick and 1 m long), T in 10 kPa steps then 5,
     # the cohesion in 50-100 kPa steps, both bed patterns, uniform beds in a 35 m zone too
     # (does the zone hold the mechanism?), the conventional model, 20000 steps a level and
@@ -60,7 +61,8 @@ VARIANTS = {
     "full": dict(edge_length=1.0, zone_depth=25.0, values=[50, 40, 30, 20, 10, 5, 0],
                  cohesion_values=[500, 400, 300, 250, 200, 150, 100, 50, 0], max_steps=20_000,
                  post_failure_steps=20_000, jitters=[0.0, 0.8], extra_zone_depths=[35.0],
-                 conventional=True, continuum=True, continuum_h=3.0, workers=2, threads=1, solver={}),
+                 conventional=True, continuum=True, continuum_h=3.0, workers=2, threads=1,
+                 solver={}, settle=False),
 }
 
 
@@ -75,7 +77,7 @@ def members(v: dict, seed: int) -> list:
     if v["conventional"]:
         out.append({"label": "conventional", "params": dict(base, conventional=True), "v": v})
     for m in out:
-        m["solver"] = dict(v["solver"])
+        m["solver"], m["settle"] = dict(v["solver"]), v["settle"]
     return out
 
 
@@ -135,7 +137,7 @@ def run_continuum(v: dict, tensile: float) -> dict:
 
 def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
     """Run the case: ``variant`` is "quick", "full" or a settings mapping (``VARIANTS`` keys)."""
-    variant, v = pick_variant("underdip", VARIANTS, variant, optional={"solver": {}})
+    variant, v = pick_variant("underdip", VARIANTS, variant, optional=STAGED_OPTIONAL)
     progress = progress or (lambda message: None)
     result = CaseResult("underdip", variant, seed, reference=dict(REFERENCE))
     runs = run_sweep(run_member, members(v, seed), workers=v["workers"], progress=progress)

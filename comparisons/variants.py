@@ -5,7 +5,12 @@ instead of patching the module's table.
 """
 from __future__ import annotations
 
-__all__ = ["pick_variant"]
+__all__ = ["pick_variant", "STAGED_OPTIONAL"]
+
+# the settings the staged field cases took after their custom variants were written: Model
+# options over the scene's (``solver``) and early settling of every solve and level
+# (``settle``, ``comparisons.staged.stage_run``)
+STAGED_OPTIONAL = {"solver": {}, "settle": False}
 
 
 def pick_variant(case: str, variants: dict, variant, optional=None) -> tuple:
@@ -33,7 +38,8 @@ def pick_variant(case: str, variants: dict, variant, optional=None) -> tuple:
 
 def _checked(case: str, settings: dict) -> dict:
     """``settings``, its ``solver`` (if any) checked against the Model options a scene takes
-    (``dem_core.scene.SOLVER_KEYS``): a bad one is named before any run starts."""
+    (``dem_core.scene.SOLVER_KEYS``) and its ``settle`` (if any) a bool: a bad one is named
+    before any run starts."""
     from dem_core.scene import SOLVER_KEYS
     solver = settings.get("solver", {})
     if not isinstance(solver, dict):
@@ -42,4 +48,6 @@ def _checked(case: str, settings: dict) -> dict:
     if unknown:
         raise ValueError(f"{case}: unknown solver option(s) {sorted(unknown)}; allowed: "
                          f"{sorted(SOLVER_KEYS)}")
+    if not isinstance(settings.get("settle", False), bool):
+        raise ValueError(f"{case}: settle must be true or false, got {settings['settle']!r}")
     return settings

@@ -8,7 +8,7 @@ point and the crack counts (``StageRecord``). The centrifuge g-ramp is one stage
 | kind (file) | record | does |
 |---|---|---|
 | "gravity" | ``Gravity(g_level, direction)`` | sets gravity (g-level x 9.81 m/s^2) |
-| "solve" | ``Solve(ratio, max_steps, failure_displacement)`` | cycles to equilibrium |
+| "solve" | ``Solve(ratio, max_steps, failure_displacement, settle)`` | cycles to equilibrium |
 | "cycle" | ``Cycle(steps)`` | a fixed number of steps |
 | "raise_gravity" | ``RaiseGravity(g_levels, ...)`` | centrifuge ramp to failure |
 | "excavate" | ``Excavate(group)`` | removes a group's blocks |
@@ -70,9 +70,12 @@ class Gravity:
 
 @dataclass(frozen=True)
 class Solve:
+    """Cycle to equilibrium (``Model.solve``); ``settle``: stop early as "settled" once the
+    largest displacement has stopped growing and no bond broke (``monitor.settled``)."""
     ratio: float = 1e-5
     max_steps: int = 100_000
     failure_displacement: float | None = None
+    settle: bool = False
 
     def check(self, i, groups, materials):
         if not (self.ratio > 0 and self.max_steps > 0):
@@ -81,7 +84,7 @@ class Solve:
 
     def run(self, model):
         r = model.solve(ratio=self.ratio, max_steps=self.max_steps,
-                        failure_displacement=self.failure_displacement)
+                        failure_displacement=self.failure_displacement, settle=self.settle)
         return r.steps, r.verdict, {"ratio": r.ratio, "reason": r.reason}
 
 

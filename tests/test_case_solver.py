@@ -48,3 +48,13 @@ def test_stage_run_builds_the_model_with_the_members_solver(monkeypatch):
         staged.stage_run(None, {"label": "x", "params": {}, "solver": EIGEN},
                          step_estimate="bound")
     assert seen["step_estimate"] == "bound"
+
+
+@pytest.mark.parametrize("name", STAGED)
+def test_each_member_carries_the_variants_settle(name):
+    """(``settle``: every solve and search level that can stop early once settled does,
+    ``staged.settled_stages``; off in every named variant)"""
+    case = importlib.import_module(f"comparisons.{name}")
+    assert all(v["settle"] is False for v in case.VARIANTS.values())
+    members = case.members(custom_variant(case, "quick", ["settle=true"]), 1)
+    assert members and all(m["settle"] is True for m in members)

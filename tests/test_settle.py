@@ -1,13 +1,15 @@
 """Early settling of a quasi-static level (``settle``; dem_core.monitor.settled): a level that
 has stopped moving and cracking ends as "settled" instead of running to its step limit, and the
 search's answer does not move."""
+import dataclasses
 import math
 
 import pytest
 
+from comparisons.staged import settled_stages, stage_run
 from dem_core.monitor import settled
 from dem_core.scene import build_model
-from dem_core.stages import run_stages
+from dem_core.stages import Solve, run_stages
 from dem_core.strength import FactorOfSafety
 from test_strength import THETA, block_on_plane
 
@@ -72,3 +74,25 @@ def test_settling_on_the_eigen_step_gives_the_same_factor_of_safety():
     rec = _factor_of_safety(True, step_estimate="eigen")
     closed = math.tan(math.radians(40.0)) / math.tan(math.radians(THETA))
     assert rec.detail["factor_of_safety"] == pytest.approx(closed, abs=0.03)
+
+
+def test_a_solve_stage_that_settles_stops_before_its_step_limit():
+    """The block at rest on the plane (F = 1.45) with a force ratio it never reaches: the solve
+    runs all its 10,000 steps, and with ``settle`` stops once its displacement stops growing."""
+    sc = block_on_plane(0.0, 40.0)
+    today, early = (run_stages(build_model(sc), [sc.stages[0], Solve(
+        ratio=1e-13, max_steps=10_000, settle=s)])[-1] for s in (False, True))
+    assert today.steps == 10_000 and today.verdict != "settled"
+    assert early.verdict == "settled" and early.steps <= 5_000
+    assert early.points["block"][0] == pytest.approx(today.points["block"][0], abs=1e-4)
+
+
+def test_a_member_that_settles_sets_settle_on_every_stage_that_has_it():
+    sc = block_on_plane(0.0, 40.0)
+    fos = FactorOfSafety(("*",), f_levels=(1.0, 1.2))
+    out = settled_stages([*sc.stages, fos])
+    assert out[0] == sc.stages[0]                                  # gravity: no such option
+    assert out[1].settle and out[2].settle and not sc.stages[1].settle
+    run = stage_run(dataclasses.replace(sc, stages=[sc.stages[0], Solve(
+        ratio=1e-13, max_steps=10_000)]), {"label": "b", "params": {}, "settle": True})
+    assert run["stages"][1]["verdict"] == "settled" and run["stages"][1]["steps"] <= 5_000

@@ -37,3 +37,9 @@ def test_a_custom_variant_with_other_keys_is_refused(custom, words):
 def test_a_bad_solver_setting_is_named_before_any_run(solver, words):
     with pytest.raises(ValueError, match=words):
         pick_variant("case", VARIANTS, dict(edge=0.02, solver=solver))
+
+
+def test_a_settle_setting_that_is_not_a_bool_is_named_before_any_run():
+    with pytest.raises(ValueError, match="settle must be true or false, got 'yes'"):
+        pick_variant("case", {"quick": dict(edge=0.01, settle=False)}, dict(edge=0.02,
+                                                                          settle="yes"))
