@@ -6,21 +6,26 @@ item 4, "report steps and seconds per case before and after").
 
 For each case (default: the six staged cases; adhikary and longtan, the centrifuge ramps, are
 measured by ``fewer_steps.py``), the quick variant's sweep members (``members``; the continuum
-is not run) are run twice through the case's own ``run_member``, two members side by side: with
-``solver={}`` and with ``--solver`` (default ``{"step_estimate": "eigen"}``), the step budgets
-unchanged; then a third time with ``--solver`` and every budget of the variant (its settings
-ending in "steps") divided by the step's gain on the case (the smallest over the members of
-the eigen critical step over the bounded one of the built model), so each solve covers the
-simulated time it did before, as the adhikary and longtan quick variants do. With
-``--spread`` (default 0.9 1.1) the bounded step runs again with every budget times each
-factor: a member's answer on the eigen step counts as "in today's spread" when it equals one
-of the bounded step's answers over these budgets (how the thirteenth session judged "the same
-answer" for a chaotic search, docs/performance.md). Per member: steps (all stages), seconds, each stage's verdict, the stages that
-failed and its search stage's failure and last stable levels; its answer is the same when the
-last three match (``answer``). One JSON line a case
-to stdout; all in benchmarks/results/case_steps.json and a figure, case_steps.png (steps and
-seconds over before in both runs on the eigen step, per case, with how many members kept
-their answer).
+is not run) are run through the case's own ``run_member``, two members side by side, each way
+of ``WAYS`` against today's (``solver={}``, the variant's budgets):
+
+- ``after``: ``--solver`` (default ``{"step_estimate": "eigen"}``), the budgets unchanged;
+- ``same_time``: ``--solver`` with every budget of the variant (its settings ending in
+  "steps") divided by the step's gain on the case (the smallest over the members of the eigen
+  critical step over the bounded one of the built model), so each solve covers the simulated
+  time it did before, as the adhikary and longtan quick variants do;
+- ``settle`` (not with ``--no-settle``): today's step and budgets with the case's ``settle``
+  setting, every solve and search level stopped once settled (``staged.settled_stages``);
+- ``settle_same_time``: ``same_time`` with ``settle``.
+
+With ``--spread`` (default 0.9 1.1) the bounded step runs again with every budget times each
+factor: a member's answer counts as "in today's spread" when it equals one of the bounded
+step's answers over these budgets (how the thirteenth session judged "the same answer" for a
+chaotic search, docs/performance.md). Per member: steps (all stages), seconds, each stage's
+verdict, the stages that failed and its search stage's failure and last stable levels; its
+answer is the same when the last three match (``answer``). One JSON line a case to stdout;
+all in benchmarks/results/case_steps.json and a figure, case_steps.png (per case and in all,
+for each way: steps over today's, and the share of members in today's spread).
 """
 from __future__ import annotations
 
@@ -39,6 +44,9 @@ CASES = ["underdip", "coal_buckling", "highwood", "lornex", "checkerboard", "com
 
 
 FAILED = ("failed", "unstable")
+# the runs compared with today's (the bounded step, the variant's budgets), and their labels
+WAYS = {"after": "eigen step, same budgets", "same_time": "eigen step, budgets / gain",
+        "settle": "settle, same budgets", "settle_same_time": "eigen step + settle, budgets / gain"}
 
 
 def answer(run: dict) -> dict:
@@ -50,7 +58,7 @@ def answer(run: dict) -> dict:
             "failure": search.get("failure"), "last_stable": search.get("last_stable")}
 
 
-def measure(name: str, solver: dict, workers: int, spread=(0.9, 1.1)) -> dict:
+def measure(name: str, solver: dict, workers: int, spread=(0.9, 1.1), settle=True) -> dict:
     """Both runs of case ``name``'s quick members (module docstring)."""
     from comparisons.cli import custom_variant
     from comparisons.sweep import run_sweep
@@ -72,8 +80,11 @@ def measure(name: str, solver: dict, workers: int, spread=(0.9, 1.1)) -> dict:
     out["gain"] = round(min(a["critical_dt_start"] / b["critical_dt_start"]
                             for a, b in zip(runs["after"], runs["before"])), 3)
     out["budgets"] = {k: x for k, x in v.items() if k.endswith("steps") and isinstance(x, int)}
-    sweep("same_time", dict(v, solver=solver, **{k: int(round(x / out["gain"]))
-                                                  for k, x in out["budgets"].items()}))
+    over_gain = {k: int(round(x / out["gain"])) for k, x in out["budgets"].items()}
+    sweep("same_time", dict(v, solver=solver, **over_gain))
+    if settle:                        # every solve and level stopped once settled
+        sweep("settle", dict(v, solver={}, settle=True))
+        sweep("settle_same_time", dict(v, solver=solver, settle=True, **over_gain))
     for f in spread:                  # today's own answers under another budget
         sweep(f"before_x{f:g}", dict(v, solver={}, **{k: int(round(x * f))
                                                       for k, x in out["budgets"].items()}))
@@ -86,10 +97,11 @@ def measure(name: str, solver: dict, workers: int, spread=(0.9, 1.1)) -> dict:
                         "verdicts": [s["verdict"] for s in r["stages"]]}
             row[f"same_answer_{key}"] = answer(b) == answer(r)
         todays = [answer(runs[k][i]) for k in runs if k.startswith("before")]
-        for key in ("after", "same_time"):
-            row[f"in_todays_spread_{key}"] = answer(runs[key][i]) in todays
+        for key in WAYS:
+            if key in runs:
+                row[f"in_todays_spread_{key}"] = answer(runs[key][i]) in todays
         out["members"].append(row)
-    for key in ("after", "same_time"):
+    for key in (k for k in WAYS if k in runs):
         for what in ("steps", "seconds"):
             before = sum(m["before"][what] for m in out["members"])
             now = sum(m[key][what] for m in out["members"])
@@ -107,38 +119,43 @@ def measure(name: str, solver: dict, workers: int, spread=(0.9, 1.1)) -> dict:
 
 
 def figure(rows, path):
-    """Bars per case: steps and seconds over before, on the eigen step with the same budgets
-    and with the budgets over its gain; how many members kept their answer written above."""
+    """Per case and in all, for each way of running (``WAYS``): steps over today's (left) and
+    the share of members whose answer is in today's spread (right)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     import numpy as np
-    fig, ax = plt.subplots(figsize=(10, 4.8))
-    x = np.arange(len(rows))
-    bars = (("steps_ratio_after", "steps, same budgets", "tab:blue", -0.3),
-            ("seconds_ratio_after", "seconds, same budgets", "tab:cyan", -0.1),
-            ("steps_ratio_same_time", "steps, budgets / gain", "tab:orange", 0.1),
-            ("seconds_ratio_same_time", "seconds, budgets / gain", "tab:olive", 0.3))
-    for key, label, color, shift in bars:
-        ax.bar(x + shift, [r[key] for r in rows], 0.2, label=label, color=color)
-    ax.axhline(0.5, color="tab:red", ls="--", lw=1, label="item 4's goal: half the steps")
-    ax.axhline(1.0, color="k", lw=0.6)
-    for i, r in enumerate(rows):
-        n = len(r["members"])
-        top = max(r[k] for k, *_ in bars)
-        ax.text(i, top + 0.04, f"gain {r['gain']:.2f}\nsame answer: {r['same_answers_after']}/{n}"
-                f" | {r['same_answers_same_time']}/{n}\nin today's spread: "
-                f"{r.get('in_todays_spread_same_time', '-')}/{n}", ha="center", fontsize=7)
-    ax.set_xticks(x, [r["case"] for r in rows], fontsize=8)
-    ax.set_ylabel("eigen step / bounded step (all quick members)")
-    ax.set_ylim(0, 1.75)
-    ax.set_title("Quick DEM runs of the staged cases on the step from the largest eigenvalue "
-                 "against the bounded step\nlabels: members with the bounded step's answer "
-                 "(same budgets | budgets / gain);\nin today's spread: the budgets / gain "
-                 "run's answer is one of the bounded step's at 0.9, 1 and 1.1 x its budgets",
-                 fontsize=8)
-    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.09), ncol=5)
-    fig.tight_layout()
+    ways = [k for k in WAYS if all(f"steps_ratio_{k}" in r for r in rows)]
+    names = [r["case"] for r in rows] + ["all"]
+    before = [sum(m["before"]["steps"] for m in r["members"]) for r in rows]
+    n = [len(r["members"]) for r in rows]
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(13, 5.2))
+    x = np.arange(len(names))
+    width = 0.8 / len(ways)
+    colors = ("tab:blue", "tab:orange", "tab:green", "tab:purple")
+    for w, (key, color) in enumerate(zip(ways, colors)):
+        steps = [r[f"steps_ratio_{key}"] for r in rows]
+        steps.append(sum(s * b for s, b in zip(steps, before)) / sum(before))
+        spread = [r[f"in_todays_spread_{key}"] / k for r, k in zip(rows, n)]
+        spread.append(sum(r[f"in_todays_spread_{key}"] for r in rows) / sum(n))
+        shift = (w - (len(ways) - 1) / 2) * width
+        a1.bar(x + shift, steps, width, color=color, label=WAYS[key])
+        a2.bar(x + shift, spread, width, color=color, label=WAYS[key])
+    a1.axhline(0.5, color="tab:red", ls="--", lw=1, label="item 4's goal: half the steps")
+    a1.axhline(1.0, color="k", lw=0.6)
+    a1.set_ylabel("steps / today's steps (all quick members of the case)")
+    a1.set_ylim(0, 1.2)
+    a2.set_ylabel("members whose answer is in today's spread")
+    a2.set_ylim(0, 1.05)
+    for ax in (a1, a2):
+        ax.set_xticks(x, [f"{c} ({k})" for c, k in zip(names, n + [sum(n)])], fontsize=8,
+                      rotation=25, ha="right")
+    a1.set_title("Steps over today's (bounded step, the variant's budgets)", fontsize=9)
+    a2.set_title("Answers in today's spread (failed stages and search levels equal to\n"
+                 "today's at 0.9, 1 or 1.1 x the budgets); (n): members", fontsize=9)
+    handles, labels = a1.get_legend_handles_labels()
+    fig.legend(handles, labels, fontsize=8, loc="lower center", ncol=5)
+    fig.tight_layout(rect=(0, 0.07, 1, 1))
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
@@ -149,11 +166,13 @@ def main(argv=None):
     ap.add_argument("--cases", nargs="+", default=CASES, choices=CASES)
     ap.add_argument("--solver", type=json.loads, default={"step_estimate": "eigen"})
     ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--no-settle", action="store_true",
+                    help="leave out the two runs with settle=True")
     ap.add_argument("--spread", type=float, nargs="*", default=[0.9, 1.1],
                     help="also run the bounded step with every budget times each of these: "
                          "today's own answers under another budget")
     a = ap.parse_args(argv)
-    rows = [measure(name, a.solver, a.workers, a.spread) for name in a.cases]
+    rows = [measure(name, a.solver, a.workers, a.spread, not a.no_settle) for name in a.cases]
     (HERE / "results" / "case_steps.json").write_text(
         json.dumps({"machine": machine(), "cases": rows}, indent=1) + "\n")
     figure(rows, HERE / "results" / "case_steps.png")
