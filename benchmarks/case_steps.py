@@ -18,6 +18,10 @@ of ``WAYS`` against today's (``solver={}``, the variant's budgets):
   setting, every solve and search level stopped once settled (``staged.settled_stages``);
 - ``settle_same_time``: ``same_time`` with ``settle``.
 
+With ``--reference`` (default 2) the bounded step runs again with every budget times that
+factor: the answer of more simulated time a level, which each way's answer and today's own are
+compared with (``as_reference_*``; the tenth session found a ramp's answer at today's budget to
+be the budget's, and twice the budget's the better reference, docs/performance.md).
 With ``--spread`` (default 0.9 1.1) the bounded step runs again with every budget times each
 factor: a member's answer counts as "in today's spread" when it equals one of the bounded
 step's answers over these budgets (how the thirteenth session judged "the same answer" for a
@@ -25,7 +29,8 @@ chaotic search, docs/performance.md). Per member: steps (all stages), seconds, e
 verdict, the stages that failed and its search stage's failure and last stable levels; its
 answer is the same when the last three match (``answer``). One JSON line a case to stdout;
 all in benchmarks/results/case_steps.json and a figure, case_steps.png (per case and in all,
-for each way: steps over today's, and the share of members in today's spread).
+for each way: steps over today's, the share of members in today's spread and the share with
+the reference's answer).
 """
 from __future__ import annotations
 
@@ -58,7 +63,8 @@ def answer(run: dict) -> dict:
             "failure": search.get("failure"), "last_stable": search.get("last_stable")}
 
 
-def measure(name: str, solver: dict, workers: int, spread=(0.9, 1.1), settle=True) -> dict:
+def measure(name: str, solver: dict, workers: int, spread=(0.9, 1.1), settle=True,
+            reference=2.0) -> dict:
     """Both runs of case ``name``'s quick members (module docstring)."""
     from comparisons.cli import custom_variant
     from comparisons.sweep import run_sweep
@@ -88,6 +94,10 @@ def measure(name: str, solver: dict, workers: int, spread=(0.9, 1.1), settle=Tru
     for f in spread:                  # today's own answers under another budget
         sweep(f"before_x{f:g}", dict(v, solver={}, **{k: int(round(x * f))
                                                       for k, x in out["budgets"].items()}))
+    if reference:                     # the answer of more simulated time a level (module doc)
+        out["reference_factor"] = reference
+        sweep("reference", dict(v, solver={}, **{k: int(round(x * reference))
+                                                 for k, x in out["budgets"].items()}))
     for i, b in enumerate(runs["before"]):
         row = {"label": b["label"]}
         for key in runs:
@@ -100,6 +110,9 @@ def measure(name: str, solver: dict, workers: int, spread=(0.9, 1.1), settle=Tru
         for key in WAYS:
             if key in runs:
                 row[f"in_todays_spread_{key}"] = answer(runs[key][i]) in todays
+        if reference:
+            for key in ("before", *(k for k in WAYS if k in runs)):
+                row[f"as_reference_{key}"] = answer(runs[key][i]) == answer(runs["reference"][i])
         out["members"].append(row)
     for key in (k for k in WAYS if k in runs):
         for what in ("steps", "seconds"):
@@ -109,6 +122,9 @@ def measure(name: str, solver: dict, workers: int, spread=(0.9, 1.1), settle=Tru
         out[f"same_answers_{key}"] = sum(m[f"same_answer_{key}"] for m in out["members"])
         out[f"in_todays_spread_{key}"] = sum(m[f"in_todays_spread_{key}"]
                                              for m in out["members"])
+    for key in ("before", *WAYS):
+        if f"as_reference_{key}" in out["members"][0]:
+            out[f"as_reference_{key}"] = sum(m[f"as_reference_{key}"] for m in out["members"])
     out["todays_own_changes"] = sum(
         not all(m[k]["failed_stages"] == m["before"]["failed_stages"] and
                 m[k]["failure"] == m["before"]["failure"] and
@@ -119,8 +135,9 @@ def measure(name: str, solver: dict, workers: int, spread=(0.9, 1.1), settle=Tru
 
 
 def figure(rows, path):
-    """Per case and in all, for each way of running (``WAYS``): steps over today's (left) and
-    the share of members whose answer is in today's spread (right)."""
+    """Per case and in all, for each way of running (``WAYS``): steps over today's (left), the
+    share of members whose answer is in today's spread (middle) and, with a reference run, the
+    share whose answer is the reference's, today's own among them (right)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -129,7 +146,9 @@ def figure(rows, path):
     names = [r["case"] for r in rows] + ["all"]
     before = [sum(m["before"]["steps"] for m in r["members"]) for r in rows]
     n = [len(r["members"]) for r in rows]
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(13, 5.2))
+    ref = all("as_reference_before" in r for r in rows)
+    fig, axes = plt.subplots(1, 3 if ref else 2, figsize=(18 if ref else 13, 5.2))
+    a1, a2 = axes[:2]
     x = np.arange(len(names))
     width = 0.8 / len(ways)
     colors = ("tab:blue", "tab:orange", "tab:green", "tab:purple")
@@ -141,20 +160,36 @@ def figure(rows, path):
         shift = (w - (len(ways) - 1) / 2) * width
         a1.bar(x + shift, steps, width, color=color, label=WAYS[key])
         a2.bar(x + shift, spread, width, color=color, label=WAYS[key])
+    if ref:
+        a3 = axes[2]
+        keys = ["before", *ways]
+        width3 = 0.8 / len(keys)
+        for w, (key, color) in enumerate(zip(keys, ("0.5", *colors))):
+            share = [r[f"as_reference_{key}"] / k for r, k in zip(rows, n)]
+            share.append(sum(r[f"as_reference_{key}"] for r in rows) / sum(n))
+            a3.bar(x + (w - (len(keys) - 1) / 2) * width3, share, width3, color=color,
+                   label="today" if key == "before" else None)
+        a3.set_ylim(0, 1.05)
+        a3.set_ylabel("members whose answer is the reference's")
+        a3.set_title(f"Answers equal to the reference: today's step with "
+                     f"{rows[0]['reference_factor']:g} x the budgets", fontsize=9)
     a1.axhline(0.5, color="tab:red", ls="--", lw=1, label="item 4's goal: half the steps")
     a1.axhline(1.0, color="k", lw=0.6)
     a1.set_ylabel("steps / today's steps (all quick members of the case)")
     a1.set_ylim(0, 1.2)
     a2.set_ylabel("members whose answer is in today's spread")
     a2.set_ylim(0, 1.05)
-    for ax in (a1, a2):
+    for ax in axes:
         ax.set_xticks(x, [f"{c} ({k})" for c, k in zip(names, n + [sum(n)])], fontsize=8,
                       rotation=25, ha="right")
     a1.set_title("Steps over today's (bounded step, the variant's budgets)", fontsize=9)
     a2.set_title("Answers in today's spread (failed stages and search levels equal to\n"
                  "today's at 0.9, 1 or 1.1 x the budgets); (n): members", fontsize=9)
     handles, labels = a1.get_legend_handles_labels()
-    fig.legend(handles, labels, fontsize=8, loc="lower center", ncol=5)
+    if ref:
+        h3, l3 = axes[2].get_legend_handles_labels()
+        handles, labels = handles + h3, labels + l3
+    fig.legend(handles, labels, fontsize=8, loc="lower center", ncol=6)
     fig.tight_layout(rect=(0, 0.07, 1, 1))
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -168,11 +203,15 @@ def main(argv=None):
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--no-settle", action="store_true",
                     help="leave out the two runs with settle=True")
+    ap.add_argument("--reference", type=float, default=2.0,
+                    help="also run the bounded step with every budget times this (0: not): "
+                         "the reference answer each way is compared with")
     ap.add_argument("--spread", type=float, nargs="*", default=[0.9, 1.1],
                     help="also run the bounded step with every budget times each of these: "
                          "today's own answers under another budget")
     a = ap.parse_args(argv)
-    rows = [measure(name, a.solver, a.workers, a.spread, not a.no_settle) for name in a.cases]
+    rows = [measure(name, a.solver, a.workers, a.spread, not a.no_settle, a.reference)
+            for name in a.cases]
     (HERE / "results" / "case_steps.json").write_text(
         json.dumps({"machine": machine(), "cases": rows}, indent=1) + "\n")
     figure(rows, HERE / "results" / "case_steps.png")

@@ -53,8 +53,8 @@ so a crash in one does not stop the rest:
   Adhikary ramp at 6 and 4 mm, each at 0.9, 1 and 1.1 times the steps a level: about 25 min;
   then settling with the step from the largest eigenvalue against those runs: about 15 min;
   docs/performance.md, issue 29 item 4), case_steps.py (the six staged cases' quick DEM runs
-  on the bounded step and on the eigen step: steps, seconds and answers per case, about
-  15 min; issue 29 item 4)
+  on the bounded step, on the eigen step and settling, against today's spread and a run with
+  twice the budgets: steps, seconds and answers per case, about 25 min; issue 29 item 4)
 """
 from __future__ import annotations
 
