@@ -86,18 +86,19 @@ def measure(name: str, solver: dict, workers: int, spread=(0.9, 1.1), settle=Tru
     out["gain"] = round(min(a["critical_dt_start"] / b["critical_dt_start"]
                             for a, b in zip(runs["after"], runs["before"])), 3)
     out["budgets"] = {k: x for k, x in v.items() if k.endswith("steps") and isinstance(x, int)}
-    over_gain = {k: int(round(x / out["gain"])) for k, x in out["budgets"].items()}
+
+    def budgets(factor):              # every budget of the variant times ``factor``
+        return {k: int(round(x * factor)) for k, x in out["budgets"].items()}
+    over_gain = budgets(1.0 / out["gain"])
     sweep("same_time", dict(v, solver=solver, **over_gain))
     if settle:                        # every solve and level stopped once settled
         sweep("settle", dict(v, solver={}, settle=True))
         sweep("settle_same_time", dict(v, solver=solver, settle=True, **over_gain))
     for f in spread:                  # today's own answers under another budget
-        sweep(f"before_x{f:g}", dict(v, solver={}, **{k: int(round(x * f))
-                                                      for k, x in out["budgets"].items()}))
+        sweep(f"before_x{f:g}", dict(v, solver={}, **budgets(f)))
     if reference:                     # the answer of more simulated time a level (module doc)
         out["reference_factor"] = reference
-        sweep("reference", dict(v, solver={}, **{k: int(round(x * reference))
-                                                 for k, x in out["budgets"].items()}))
+        sweep("reference", dict(v, solver={}, **budgets(reference)))
     for i, b in enumerate(runs["before"]):
         row = {"label": b["label"]}
         for key in runs:
@@ -126,10 +127,7 @@ def measure(name: str, solver: dict, workers: int, spread=(0.9, 1.1), settle=Tru
         if f"as_reference_{key}" in out["members"][0]:
             out[f"as_reference_{key}"] = sum(m[f"as_reference_{key}"] for m in out["members"])
     out["todays_own_changes"] = sum(
-        not all(m[k]["failed_stages"] == m["before"]["failed_stages"] and
-                m[k]["failure"] == m["before"]["failure"] and
-                m[k]["last_stable"] == m["before"]["last_stable"]
-                for k in m if k.startswith("before_x")) for m in out["members"])
+        not all(m[f"same_answer_before_x{f:g}"] for f in spread) for m in out["members"])
     print(json.dumps({k: out[k] for k in out if k != "members"}), flush=True)
     return out
 
