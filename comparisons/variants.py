@@ -5,6 +5,8 @@ instead of patching the module's table.
 """
 from __future__ import annotations
 
+import copy
+
 __all__ = ["pick_variant", "STAGED_OPTIONAL"]
 
 # the settings the staged field cases took after their custom variants were written: Model
@@ -26,7 +28,7 @@ def pick_variant(case: str, variants: dict, variant, optional=None) -> tuple:
     if not isinstance(variant, dict):
         raise ValueError(f"{case}: variant must be a name or a settings mapping, got "
                          f"{type(variant).__name__}")
-    optional = dict(optional or {})
+    optional = copy.deepcopy(dict(optional or {}))   # the caller's defaults stay unchanged
     keys = set(next(iter(variants.values())))
     missing = keys - set(variant) - set(optional)
     unknown = set(variant) - keys
