@@ -53,7 +53,7 @@ def main():
     ap.add_argument("--steps", type=int, default=150_000, help="step limit of each solve")
     ap.add_argument("--insitu", type=float, default=None, metavar="K",
                     help="start from the geostatic field sv = rho g depth, sh = K sv "
-                         "(dem_core.insitu.InSitu) before the gravity stage")
+                         "(dem_core.workflow.insitu.InSitu) before the gravity stage")
     ap.add_argument("--edge-elements", action="store_true",
                     help="each shared edge one linear element (Model(edge_elements=True))")
     ap.add_argument("--demand", action="store_true",
@@ -70,8 +70,8 @@ def main():
     warnings.simplefilter("ignore")        # (the scene's own notes)
     from comparisons import checkerboard as cbk
     from comparisons.scenes import checkerboard as scene
-    from dem_core.scene import build_model
-    from dem_core.stages import run_stages
+    from dem_core.workflow.scene import build_model
+    from dem_core.workflow.stages import run_stages
 
     common = dict(cbk._COMMON) if a.extent == "window" else {}
     p = scene.CheckerboardParams(**dict(common, edge_length=a.edge, cut_height=a.cut,
@@ -80,7 +80,7 @@ def main():
         _joints_through(scene)
     stages = scene.base_stages(p, a.steps)
     if a.insitu is not None:
-        from dem_core.insitu import InSitu
+        from dem_core.workflow.insitu import InSitu
         stages = [InSitu.geostatic(scene.DENSITY, a.insitu)] + stages
     sc = scene.scene(p, stages)
     if a.edge_elements:
@@ -166,7 +166,7 @@ def demand(m, stages, real, t0, head):
     """The --demand run (module docstring); ``head`` goes into the JSON line."""
     import numpy as np
 
-    from dem_core.stages import ChangeMaterial
+    from dem_core.workflow.stages import ChangeMaterial
 
     i = 0
     while True:                             # up to and with the gravity stage's solve

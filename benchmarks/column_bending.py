@@ -25,8 +25,8 @@ from pathlib import Path
 import numpy as np
 
 from dem_core.geometry import GeometrySpec, Region, Voronoi, build_block_system, rectangle
-from dem_core.gravity_ramp import raise_gravity
-from dem_core.materials import Material
+from dem_core.workflow.gravity_ramp import raise_gravity
+from dem_core.contact.materials import Material
 from dem_core.model import Model
 
 LENGTH, WIDTH, TILT, DENSITY, TENSILE = 0.3, 0.010, 9.0, 2426.0, 1.1e6

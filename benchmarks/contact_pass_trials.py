@@ -9,7 +9,7 @@ between them. These trials test three ways to cut that, each a kernel written he
 bonded specimen of ``throughput.py`` (rigid blocks, sharp corners, no edge elements, the elastic
 branch of the law), checked bit for bit against the model's kernel before it is timed:
 
-- ``model``: ``dem_core.forces.add_contact_forces``, the step's contact pass.
+- ``model``: ``dem_core.contact.forces.add_contact_forces``, the step's contact pass.
 - ``one_loop``: the same arithmetic in one loop that has none of the model's other paths
   (rounded corners, deformable blocks, edge elements, chunk ownership, the crack log): what
   the model's generality costs.
@@ -63,9 +63,9 @@ def _noalias_compiles():
 
 @njit(inline="always")
 def _law(k, xa, ya, xb, yb, nx, ny, cs, strength):
-    """The elastic-or-limit law of ``dem_core.law.coulomb_law`` by selects (glued, tension
+    """The elastic-or-limit law of ``dem_core.contact.law.coulomb_law`` by selects (glued, tension
     cut-off, Coulomb limit), the state written back; returns (fx, fy, px, py), the force on B
-    and its point (``dem_core.forces.contact_update``)."""
+    and its point (``dem_core.contact.forces.contact_update``)."""
     un, us, sne, ts, sn, kn, ks, material, broken, length, anchor = cs
     u_n = (xb - xa) * nx + (yb - ya) * ny
     u_s = (yb - ya) * nx - (xb - xa) * ny
@@ -213,7 +213,7 @@ def figure(out, path):
 
 def trial(n_blocks, rounds):
     """One specimen of about ``n_blocks`` blocks: the trials' bit-for-bit check and times."""
-    from dem_core.materials import Material
+    from dem_core.contact.materials import Material
     from dem_core.model import Model
     from scenes import machine
     from throughput import specimen

@@ -1,5 +1,5 @@
 """The thesis's conventional model of the centrifuge slopes: joints only, the columns between
-them deformable (``dem_core.scene.conventional``), raised in g to failure.
+them deformable (``dem_core.workflow.scene.conventional``), raised in g to failure.
 
     python benchmarks/conventional_deformable.py --case adhikary --zone 0.005
     python benchmarks/conventional_deformable.py --case adhikary --zone 0.005 --plastic
@@ -29,8 +29,8 @@ import time
 
 import numpy as np
 
-from dem_core.scene import build_model, conventional
-from dem_core.stages import RaiseGravity
+from dem_core.workflow.scene import build_model, conventional
+from dem_core.workflow.stages import RaiseGravity
 
 
 def _scene(case):

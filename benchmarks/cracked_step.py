@@ -17,7 +17,7 @@ import time
 
 def run(edge_elements=False, steps=3000) -> dict:
     from comparisons.scenes import adhikary
-    from dem_core.scene import build_model
+    from dem_core.workflow.scene import build_model
 
     sc = adhikary.scene(adhikary.AdhikaryParams(edge_length=0.008, relax_iterations=5),
                         stages=[])

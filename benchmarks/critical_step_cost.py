@@ -19,8 +19,8 @@ from throughput import specimen
 
 
 def measure(n_blocks: int) -> dict:
-    from dem_core import critical_step
-    from dem_core.materials import Material
+    from dem_core.step import critical_step
+    from dem_core.contact.materials import Material
     from dem_core.model import Model
 
     bs = specimen(n_blocks)

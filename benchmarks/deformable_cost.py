@@ -26,7 +26,7 @@ import throughput
 
 
 def _model(bs, size, mass_scaling=False):
-    from dem_core.materials import Material
+    from dem_core.contact.materials import Material
     from dem_core.model import Model
 
     flaw = Material(kn=40e9, ks=20e9, tensile_strength=1.1e6, cohesion=1.2e6, friction=37)

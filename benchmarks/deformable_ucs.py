@@ -28,8 +28,8 @@ import time
 
 from comparisons import lab
 from comparisons.scenes import lajtai as scene
-from dem_core.scene import build_model
-from dem_core.stages import run_stages
+from dem_core.workflow.scene import build_model
+from dem_core.workflow.stages import run_stages
 from rounding_ucs import quick_ucs_scene
 
 

@@ -12,7 +12,7 @@ The Adhikary base run (flaw T = 1.1 MPa, the full variant's ramp: 10 g levels, t
 bisected and closed in 1 g steps; ``benchmarks/centrifuge_resolution.member``) at each block
 edge, once as today (every level that neither fails nor reaches the force ratio runs to its
 step limit) and once with ``settle`` (a level stops as "settled" once it has hardly moved and
-not cracked over two windows of a tenth of the step limit: ``dem_core.monitor.settled``).
+not cracked over two windows of a tenth of the step limit: ``dem_core.output.monitor.settled``).
 Reports per run the failure g, the last stable g, steps (and those of the failed levels),
 seconds and the levels' verdicts, and per edge the ratio of steps and of seconds (settle /
 today) and the change of failure g.
@@ -22,7 +22,7 @@ Steps do not depend on the machine; seconds do (the machine is named in the JSON
 failure g tells whether today's answer is converged in its step budget (the reference the two
 are judged against; docs/performance.md, "A settled level must be slowing down").
 ``--solver JSON``: further ``Model`` options for the settling search only (e.g.
-``{"step_estimate": "eigen"}``: the step from the largest eigenvalue, ``dem_core.critical_step``),
+``{"step_estimate": "eigen"}``: the step from the largest eigenvalue, ``dem_core.step.critical_step``),
 so the pair compares today's search with settling on that solver; the file name gets the
 options' values. ``--today NAME``: take today's runs (same edges and budgets) from
 ``results/NAME.json`` instead of running them again (their steps and answers do not depend on

@@ -30,13 +30,13 @@ from pathlib import Path
 
 import numpy as np
 
-from dem_core.contacts import SHEAR, TENSION
-from dem_core.elastic import kn_from_zone
+from dem_core.contact.contacts import SHEAR, TENSION
+from dem_core.contact.elastic import kn_from_zone
 from dem_core.geometry import GeometrySpec, Voronoi, rectangle
-from dem_core.materials import Material
-from dem_core.model import STANDARD_GRAVITY
-from dem_core.scene import Boundary, Scene, build_model
-from dem_core.stages import ChangeMaterial, Gravity, Solve, run_stages
+from dem_core.contact.materials import Material
+from dem_core.units import STANDARD_GRAVITY
+from dem_core.workflow.scene import Boundary, Scene, build_model
+from dem_core.workflow.stages import ChangeMaterial, Gravity, Solve, run_stages
 
 SIDE, RHO, E, NU, COHESION = 60.0, 2700.0, 3.6e9, 0.27, 2.5e6
 GROUPS = {"base": {"touching": "bottom"}, "left side": {"touching": "left"},

@@ -31,7 +31,7 @@ import throughput
 
 # ------------------------------------------------------------------ part 1
 def _model(bs, unbreakable=None):
-    from dem_core.materials import Material
+    from dem_core.contact.materials import Material
     from dem_core.model import Model
 
     flaw = Material(kn=40e9, ks=20e9, tensile_strength=1.1e6, cohesion=1.2e6, friction=37)
@@ -87,7 +87,7 @@ def variants(bs):
 
     def water(on):
         def build():
-            from dem_core.water import WaterTable
+            from dem_core.workflow.water import WaterTable
             m = _model(bs)
             y = bs.vertices[:, 1]
             m.set_water(WaterTable(float(0.5 * (y.min() + y.max())), on=on))
@@ -138,8 +138,8 @@ def unused_costs(n_blocks, steps, reps, log):
 def cantilever_ramp(zone, edge, g_levels, seed=3):
     """Failure g of a cantilever with Voronoi flaws in [0, zone] (zone=None: everywhere)."""
     from dem_core.geometry import GeometrySpec, Voronoi, build_block_system, rectangle
-    from dem_core.gravity_ramp import raise_gravity
-    from dem_core.materials import Material
+    from dem_core.workflow.gravity_ramp import raise_gravity
+    from dem_core.contact.materials import Material
     from dem_core.model import Model
 
     L, H, p = 0.3, 0.03, 2 * edge

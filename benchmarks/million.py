@@ -62,7 +62,7 @@ def peak_gb() -> float:
 def build(n_blocks):
     """The specimen's model at about ``n_blocks`` blocks after a 20-step warm-up, and its row:
     tessellation and set-up seconds, resident memory before and after (GB)."""
-    from dem_core.materials import Material
+    from dem_core.contact.materials import Material
     from dem_core.model import Model
 
     from throughput import specimen

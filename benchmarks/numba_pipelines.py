@@ -2,7 +2,7 @@
 
     .venv/bin/python benchmarks/numba_pipelines.py [--blocks 10000] [--calls 200]
 
-The contact loop (``dem_core.forces.chunk_forces``, the serial kernel when called with
+The contact loop (``dem_core.contact.forces.chunk_forces``, the serial kernel when called with
 ``j = -1``) is compiled with ``parallel=True`` (and no ``prange``)
 because the same source through numba's plain pipeline runs many times slower
 (docs/performance.md). This benchmark recompiles the kernel's Python source both ways
@@ -85,10 +85,10 @@ def main():
     from numba import njit
 
     import throughput
-    from dem_core import forces
-    from dem_core.materials import Material
+    from dem_core.contact import forces
+    from dem_core.contact.materials import Material
     from dem_core.model import Model
-    from dem_core.state import no_parallel
+    from dem_core.step.state import no_parallel
 
     flaw = Material(kn=40e9, ks=20e9, tensile_strength=1.1e6, cohesion=1.2e6, friction=37)
     m = Model(throughput.specimen(a.blocks), {"flaw:*": flaw, "boundary:*": flaw},

@@ -7,7 +7,7 @@ time per Newton iteration against dofs.
 
 - Scaling: ``throughput.run`` (bonded Voronoi square on a fixed base at 50 g) for 1e3..1e4
   (quick) or 1e3..1e5 (full) blocks, with 1 thread (the serial kernel) and 2 threads (the
-  threaded kernel of ``dem_core.parallel``, ``Model(threads=2)``); contact updates per second
+  threaded kernel of ``dem_core.step.threads.parallel``, ``Model(threads=2)``); contact updates per second
   per core = updates / s / threads, and the speed-up of 2 threads over 1 at each size.
 - Profile: the parts of one step timed separately on one specimen by calling the same numba
   kernels the step calls (``forces.add_contact_forces``, ``step.advance`` (which also turns
@@ -33,7 +33,7 @@ import scenes
 import throughput
 
 # Streamed per contact and step by add_contact_forces on the elastic path of a rigid-block model
-# (dtypes of dem_core.contacts; recounted 2026-11-26 for the incremental law's layout): read
+# (dtypes of dem_core.contact.contacts; recounted 2026-11-26 for the incremental law's layout): read
 # block_a, block_b (int32 4+4), point_a, point_b, normal_b (3 x 16), face, anchor, broken (int8
 # 3 x 1), length, kn, ks (3 x 8), material (4), sn_elastic, ts, un, us (4 x 8) = 119 B; written
 # sn, ts, sn_elastic, un, us (5 x 8) + slipping (1) = 41 B, of which sn and slipping (9 B) are
@@ -179,7 +179,8 @@ def _stream_figure(rows, path):
 
 
 def profile(n_blocks, steps=200):
-    from dem_core import forces, step
+    from dem_core.contact import forces
+    from dem_core.step import run as step
     from dem_core.components import add_gravity
 
     bs = throughput.specimen(n_blocks)
@@ -218,7 +219,7 @@ def profile(n_blocks, steps=200):
 
 
 def leave_model(bs):
-    from dem_core.materials import Material
+    from dem_core.contact.materials import Material
     from dem_core.model import Model
 
     flaw = Material(kn=40e9, ks=20e9, tensile_strength=1.1e6, cohesion=1.2e6, friction=37)
@@ -334,7 +335,7 @@ def main(argv=None):
         return machine_limit(a.limit, a.rounds)
     out = {"machine": scenes.machine(), "mode": "full" if a.full else "quick",
            "threads": [1, 2],
-           "note": "1 thread: serial kernel; 2 threads: dem_core.parallel (bit-identical); "
+           "note": "1 thread: serial kernel; 2 threads: dem_core.step.threads.parallel (bit-identical); "
                    "per core = per thread"}
     t0 = time.perf_counter()
     out["bandwidth"] = bandwidth()

@@ -51,7 +51,7 @@ TOLERANCES = {
 
 
 def measure() -> dict:
-    from dem_core.materials import Material
+    from dem_core.contact.materials import Material
     from dem_core.model import Model
 
     out = {}

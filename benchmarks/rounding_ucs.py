@@ -22,8 +22,8 @@ import time
 
 from comparisons import lab, lajtai
 from comparisons.scenes import lajtai as scene
-from dem_core.scene import build_model
-from dem_core.stages import run_stages
+from dem_core.workflow.scene import build_model
+from dem_core.workflow.stages import run_stages
 
 
 def quick_ucs_scene(cohesion, seed=1, **solver):

@@ -134,7 +134,7 @@ def brick_bar_tension(cell=0.01, velocity=2e-3, ks_ratio=1.0, safety=0.5, dampin
     are the platens), with the brick size, pull velocity and solver controls as arguments.
     """
     from dem_core.model import Model
-    from dem_core.simple_blocks import brick_grid
+    from dem_core.geometry.simple_blocks import brick_grid
 
     t0 = time.perf_counter()
     nx, ny = int(round(0.2 / cell)), int(round(0.05 / cell))

@@ -22,7 +22,7 @@ from pathlib import Path
 from continuum_ref import limit_equilibrium as le
 from continuum_ref import ssr
 from continuum_ref.materials import MohrCoulomb
-from dem_core.water import WaterTable
+from dem_core.workflow.water import WaterTable
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))
 from c_phi_slope import C, GAMMA, GROUND, PHI, WATER, slope_model  # noqa: E402  (the section)

@@ -11,7 +11,7 @@ largest stable step is found by bisection (in log dt, to 2 %) on a fixed ``Model
 stable = the run of ``steps`` steps finishes without ``ModelUnstable``, with finite positions
 and total energy (kinetic + spring + gravity, which starts at 0) never above 5 % of the largest
 spring energy seen. ``stable_over_eigen`` = largest stable dt / the critical step from the
-largest eigenvalue (``Model(step_estimate="eigen").critical_dt``, ``dem_core.critical_step``):
+largest eigenvalue (``Model(step_estimate="eigen").critical_dt``, ``dem_core.step.critical_step``):
 1 when that estimate is exact and the energy criterion measures stability (it measures the
 energy error, i.e. accuracy, where that error passes 5 % below the limit: docs/mechanics.md).
 ``margin = largest stable dt / auto_dt``; > 1 means the automatic step is
@@ -38,7 +38,7 @@ import scenes
 
 # ------------------------------------------------------------------ DEM
 def _is_stable(bs, kn, ks, g_level, dt, steps):
-    from dem_core.materials import Material
+    from dem_core.contact.materials import Material
     from dem_core.model import Model, ModelUnstable
 
     mats = {"flaw:*": Material(kn=kn, ks=ks, tensile_strength=1e5, cohesion=2e5, friction=35),
@@ -62,7 +62,7 @@ def _is_stable(bs, kn, ks, g_level, dt, steps):
 def auto_dt(bs, kn, ks, step_estimate="bound"):
     """(automatic dt, search margin, critical dt) of the specimen, the critical step
     bounded (``step_estimate="bound"``) or from the largest eigenvalue ("eigen")."""
-    from dem_core.materials import Material
+    from dem_core.contact.materials import Material
     from dem_core.model import Model
 
     mats = {"flaw:*": Material(kn=kn, ks=ks, tensile_strength=1e5, cohesion=2e5, friction=35),

@@ -51,7 +51,7 @@ from numba import njit
 import scenes
 from dem_core.components.cables import _axial, _grout
 from dem_core.components.liner import add_liners
-from dem_core.components.nodes import move_nodes
+from dem_core.step.nodes import move_nodes
 
 BENCH_H, FACE_DIP, BERM, DEPTH = 15.0, 70.0, 8.0, 14.0         # m, deg, m, m
 ROWS, ROW_SPACING = 10, 1.6                                     # rows per bench face, m
@@ -68,8 +68,8 @@ def pit_wall(n_benches, edge, seed=0):
     """The pit wall's Scene (module docstring)."""
     from dem_core.geometry import GeometrySpec, JointSet, Voronoi
     from dem_core.geometry.profiles import bench_profile, near_face_regions
-    from dem_core.materials import Material
-    from dem_core.scene import Boundary, Scene
+    from dem_core.contact.materials import Material
+    from dem_core.workflow.scene import Boundary, Scene
 
     rock = bench_profile(BENCH_H, n_benches, FACE_DIP, BERM, crest_length=30.0,
                          toe_length=30.0, base_thickness=20.0)
@@ -96,8 +96,8 @@ def pit_wall(n_benches, edge, seed=0):
 def settled_model(n_benches, edge, settle, log):
     """The pit wall built, given its geostatic stress, and stepped ``settle`` times under
     gravity; (model, facts)."""
-    from dem_core.insitu import InSitu
-    from dem_core.scene import build_model
+    from dem_core.workflow.insitu import InSitu
+    from dem_core.workflow.scene import build_model
 
     t0 = time.perf_counter()
     sc = pit_wall(n_benches, edge)
@@ -136,7 +136,7 @@ def bench_faces(n_benches):
 
 def cables(n_benches, segment_length):
     """The ``Cable`` records: ROWS per bench face (module docstring)."""
-    from dem_core.support import Cable
+    from dem_core.components.support import Cable
 
     d = np.array([-math.cos(math.radians(DRILL_DIP)), -math.sin(math.radians(DRILL_DIP))])
     out = []
@@ -152,7 +152,7 @@ def cables(n_benches, segment_length):
 
 
 def liner(segment_length):
-    from dem_core.support import Liner
+    from dem_core.components.support import Liner
     return Liner("face_zone", segment_length=segment_length, **LINER)
 
 
@@ -233,7 +233,7 @@ def kernel_profile(m, snap, n=2000):
     """Seconds per call of the cable kernel's parts (and the whole liner kernel), each looped
     ``n`` times inside numba on the variant's snapshot (the model is restored afterwards;
     dt = 0 in the node move so the nodes stay put)."""
-    from dem_core import support
+    from dem_core.components import support
 
     parts = {}
 
@@ -360,7 +360,7 @@ def _counts(r):
 
 def _draw(ax, m, run, LineCollection, PolyCollection):
     """The lowest two benches with their blocks, cables and liner."""
-    from dem_core.detection import world_vertices
+    from dem_core.contact.detection import world_vertices
 
     p, s = m.props, m.state
     wv = world_vertices(s.pos, s.rot, p.vertex_offsets, p.local_vertices)

@@ -8,7 +8,7 @@ the thesis's plaster) sits on a fixed base under 50 g. After a warm-up (numba co
 steps) the timed run is ``--steps`` steps of ``Model.cycle`` (contact forces, law, damping,
 integration, movement check; contact searches when triggered are included).
 ``contact_updates_per_s_per_core`` = point contacts x steps / seconds / threads; ``--threads 2``
-runs the threaded contact kernel (``dem_core.parallel``; ``Model(threads=2)``).
+runs the threaded contact kernel (``dem_core.step.threads.parallel``; ``Model(threads=2)``).
 """
 from __future__ import annotations
 
@@ -34,7 +34,7 @@ def specimen(n_blocks, seed=0):
 
 
 def run(n_blocks, steps, seed=0, threads=1):
-    from dem_core.materials import Material
+    from dem_core.contact.materials import Material
     from dem_core.model import Model
 
     t0 = time.perf_counter()

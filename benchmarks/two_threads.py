@@ -37,7 +37,7 @@ STEPS = {1000: 1500, 10_000: 200, 100_000: 20}
 
 
 def build(n_blocks, threads, base_load=False):
-    from dem_core.materials import Material
+    from dem_core.contact.materials import Material
     from dem_core.model import Model
 
     from throughput import specimen
@@ -57,9 +57,9 @@ def _loops():
     from numba import njit
 
     from dem_core.components import add_gravity
-    from dem_core.forces import add_contact_forces
-    from dem_core.parallel import add_contact_forces_parallel
-    from dem_core.integration import advance, advance_parallel
+    from dem_core.contact.forces import add_contact_forces
+    from dem_core.step.threads.parallel import add_contact_forces_parallel
+    from dem_core.step.integration import advance, advance_parallel
 
     @njit
     def contacts_serial(n, c, strength, s, cracks, rnd, dfm):
@@ -95,7 +95,7 @@ def parts(m, steps, loops):
     contacts_serial, contacts_threaded, advance_serial, advance_threaded, gravity = loops
     import numba
     numba.set_num_threads(2)
-    from dem_core.parallel import parallel_bundle
+    from dem_core.step.threads.parallel import parallel_bundle
     par = parallel_bundle(m.contacts, m.n_blocks, 2, m.edge_elements)
     integ = m._integrator()
     g = m._components()[0]

@@ -4,9 +4,9 @@
 Methods:
 
 - ``dem``: the damage model (Voronoi flaws in the columns), gravity raised step by step to
-  failure (``dem_core.gravity_ramp``), at several flaw tensile strengths, flaw frictions and a
+  failure (``dem_core.workflow.gravity_ramp``), at several flaw tensile strengths, flaw frictions and a
   lower bedding cohesion; histories of the horizontal displacement at points A (crest) and B
-  (mid-face); the crack log; the rupture surface (``dem_core.rupture``: flaw cracks linked
+  (mid-face); the crack log; the rupture surface (``dem_core.output.rupture``: flaw cracks linked
   within ``RUPTURE_LINK`` block edges or ``RUPTURE_LINK_BEDS`` bed spacings, the largest group
   reaching the lowest third of the face)
   with its angle to the joint normal and its depth behind the face.
@@ -15,7 +15,7 @@ Methods:
   rock's strength smeared over the mass: the joints are not represented), displacement at A and
   B against g, critical g-level and the yield-indicator picture.
 
-Failure at a g-level (``dem_core.gravity_ramp``, watching points A and B): the solve does not
+Failure at a g-level (``dem_core.workflow.gravity_ramp``, watching points A and B): the solve does not
 reach equilibrium and the displacement of A or B keeps growing (by more than ``CREEP`` over the
 last fifth of the level's steps), or A or B moves more than ``FAILURE_DISPLACEMENT`` during the
 level. (Watching the slope's points, not every block: columns cut by the model's back boundary
@@ -51,7 +51,7 @@ REFERENCE = {
 }
 
 # workers: sweep members run side by side (processes or MPI); threads: threads per member
-# (dem_core.parallel). At these sizes two processes of one thread each beat one process of two
+# (dem_core.step.threads.parallel). At these sizes two processes of one thread each beat one process of two
 # threads (the per-step thread start-up is not paid back); the results are the same.
 # refine_to: after the first failed level, bisect back to this many g (gravity_ramp).
 # solver: Model options over the scene's for every run, e.g. {"edge_elements": True} (the shared

@@ -2,10 +2,10 @@
 rupture surface from its crack log, and the figures (the failed slope's blocks and cracks,
 displacement vs g, the continuum's yield).
 
-A scene module passed here provides ``scene(params, stages)`` (the ``dem_core.scene.Scene`` both
+A scene module passed here provides ``scene(params, stages)`` (the ``dem_core.workflow.scene.Scene`` both
 methods build from: geometry, materials, boundaries, points "A" and "B", solver), ``profile()``
 and ``face()``; see comparisons/scenes/longtan.py. The g-ramp is the scene's one stage
-(``dem_core.stages.RaiseGravity``), run with a checkpoint after each stable level so that a
+(``dem_core.workflow.stages.RaiseGravity``), run with a checkpoint after each stable level so that a
 killed run goes on from its last level (``ramp_run``).
 """
 from __future__ import annotations
@@ -19,13 +19,13 @@ import numpy as np
 
 from comparisons import store
 from comparisons.progress import ramp_status, report
-from dem_core.gravity_ramp import RampRecord
-from dem_core.limit import load_resumable, remove_resumable, save_resumable
-from dem_core.plot import block_picture, draw_picture, magnification
-from dem_core.scene import build_model
-from dem_core.stages import RaiseGravity, check_stages
-from dem_core.vtk import VtkSeries
-from dem_core.rupture import angle_to_joint_normal, depth_from_face, find_rupture
+from dem_core.workflow.gravity_ramp import RampRecord
+from dem_core.workflow.limit import load_resumable, remove_resumable, save_resumable
+from dem_core.output.plot import block_picture, draw_picture, magnification
+from dem_core.workflow.scene import build_model
+from dem_core.workflow.stages import RaiseGravity, check_stages
+from dem_core.output.vtk import VtkSeries
+from dem_core.output.rupture import angle_to_joint_normal, depth_from_face, find_rupture
 
 
 # Quasi-static solver of the g-ramps: kinetic damping (dynamic relaxation, checked every 100
@@ -99,7 +99,7 @@ def ramp_run(scene, params, member: dict, failure_displacement: float, creep: fl
     time and an estimate of the time left (``comparisons.progress.report``, ``ramp_status``:
     the planned levels are known in advance); the result is a plain dict (a sweep
     member's output) with the histories of A and B, the cracks of the materials whose names
-    start with one of ``rupture_materials``, ``picture`` (``dem_core.plot.block_picture`` of
+    start with one of ``rupture_materials``, ``picture`` (``dem_core.output.plot.block_picture`` of
     the end of the ramp: the failed state when it failed, with those cracks and the joints),
     ``level_steps`` (each level's steps, in the order of ``g``), ``unstable`` (None, or the
     message of a numerical blow-up of a slope that was not failing: ``raise_gravity`` stops
@@ -185,7 +185,7 @@ def unstable_notes(runs: list) -> list:
 
 def rupture(run: dict, link_distance: float, face_part, joint_dip: float,
             face, dip_direction: str = "left") -> dict | None:
-    """The rupture surface of a run's cracks (``dem_core.rupture``) as plain data: polyline
+    """The rupture surface of a run's cracks (``dem_core.output.rupture``) as plain data: polyline
     (m, from the face inwards), crack count, angle above the joint normal (deg), depth behind
     ``face`` (m) and length (m); None when no crack group reaches ``face_part``."""
     xy = np.asarray(run["crack_xy"], float).reshape(-1, 2)

@@ -14,7 +14,7 @@ Stage list (``schedule_stages``):
    with local damping (a trial with 3 m cells) 32 flaws broke and each level came to
    equilibrium (ratio 1e-5) within 1600-5000 steps;
 2. ``strength_schedule``: the flaws' tensile strength through ``values`` (each solved to
-   equilibrium or judged failed, ``dem_core.strength.StrengthSchedule``);
+   equilibrium or judged failed, ``dem_core.workflow.strength.StrengthSchedule``);
 3. optionally (``cohesion_values``) a second schedule at the lowest tensile strength reached:
    the flaws' cohesion lowered. It is not in the thesis: it shows which strength the mechanism
    needs when lowering the tensile strength alone does not fail the slope;
@@ -36,8 +36,8 @@ import time
 
 import numpy as np
 
-from dem_core.stages import Cycle, Gravity, Solve
-from dem_core.strength import StrengthSchedule
+from dem_core.workflow.stages import Cycle, Gravity, Solve
+from dem_core.workflow.strength import StrengthSchedule
 
 
 def schedule_stages(flaws: str, values, watch, *, max_steps: int,

@@ -27,7 +27,7 @@ Methods (the scene: comparisons/scenes/checkerboard.py, every assumption there):
 - ``continuum``: the same section in ``continuum_ref`` (comparisons/checkerboard_continuum.py):
   the Hoek-Brown rock masses' strength-reduction factor of safety per UCS.
 
-Failure of a level (``dem_core.limit``): the crest or face point moves more than
+Failure of a level (``dem_core.workflow.limit``): the crest or face point moves more than
 ``FAILURE_DISPLACEMENT`` in the level, or is still moving by more than ``CREEP`` over its last
 fifth (not coming to equilibrium).
 """
@@ -44,10 +44,10 @@ from comparisons.results import CaseResult, Curve
 from comparisons.scenes import checkerboard as scene
 from comparisons.sweep import run_sweep
 from comparisons.variants import STAGED_OPTIONAL, pick_variant
-from dem_core.loading import Displace
-from dem_core.stages import Solve
-from dem_core.strength import StrengthSchedule
-from dem_core.support import Cable, Liner
+from dem_core.workflow.loading import Displace
+from dem_core.workflow.stages import Solve
+from dem_core.workflow.strength import StrengthSchedule
+from dem_core.components.support import Cable, Liner
 
 DESCRIPTION = ("Checkerboard Creek (Revelstoke, thesis ch. 7): weathering as tensile-strength "
                "loss, T at failure vs UCS (Table 7.4), support, continuum SSR")

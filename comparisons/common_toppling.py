@@ -46,8 +46,8 @@ from comparisons.scenes import common_toppling as scene
 from comparisons.staged import stage_run
 from comparisons.sweep import run_sweep
 from comparisons.variants import STAGED_OPTIONAL, pick_variant
-from dem_core.stages import ChangeMaterial, Excavate, Gravity, Solve
-from dem_core.strength import StrengthSchedule
+from dem_core.workflow.stages import ChangeMaterial, Excavate, Gravity, Solve
+from dem_core.workflow.strength import StrengthSchedule
 
 DESCRIPTION = ("Common (block-flexural) toppling after Nichol et al. 2002 (thesis 5.2.2): "
                "flaw T at rupture of the 6 m model, and critical height Hc against T and layer "

@@ -16,7 +16,7 @@ import time
 
 from comparisons.scenes import highwood as scene
 from dem_core.geometry import GeometrySpec
-from dem_core.insitu import InSitu
+from dem_core.workflow.insitu import InSitu
 
 F_MAX = 20.0
 

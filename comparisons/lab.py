@@ -2,7 +2,7 @@
 
 Every test drives rigid loading parts (platens, shear-box halves; groups of a ``Model``) and
 reads the force the specimen exerts on them. Each loading path is a list of stages
-(``dem_core.loading``: ``Load``, ``ServoLoad``) that a scene file can carry; the ``*_test``
+(``dem_core.workflow.loading``: ``Load``, ``ServoLoad``) that a scene file can carry; the ``*_test``
 functions run them on a model and return the curve. Conventions: SI units;
 compressive stress and strain positive; shear stress positive in the direction the lower box
 moves (+x), read on the stationary box. Strains are platen displacement over specimen
@@ -12,7 +12,7 @@ axial.
 
 The moduli measured on a 2D assembly are the 2D (plane) values ``E_2d``, ``nu_2d``; their
 plane-strain equivalents are ``nu = nu_2d / (1 + nu_2d)``, ``E = E_2d (1 - nu^2)``
-(``dem_core.elastic``).
+(``dem_core.contact.elastic``).
 
 Quasi-static loading: the platen/box velocity is given as a displacement per time step
 (``rate``, m/step, times the model's time step gives the velocity), because with mass scaling
@@ -27,10 +27,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from dem_core.elastic import spacing_from_area
-from dem_core.loading import Load, ServoLoad
+from dem_core.contact.elastic import spacing_from_area
+from dem_core.workflow.loading import Load, ServoLoad
 from dem_core.model import Model
-from dem_core.stages import run_stages
+from dem_core.workflow.stages import run_stages
 
 __all__ = ["LabCurve", "contact_force", "compression_load", "tension_load", "shear_stages",
            "curve_of", "compression_test", "tension_test", "direct_shear",
@@ -280,11 +280,11 @@ def _ratio_of_nu2d(nu2):
 def stiffness_for_moduli(E: float, nu: float, mean_block_area: float, block_E=None,
                          block_nu=0.25) -> dict:
     """Contact kn, ks (Pa/m) giving an assembly of plane-strain modulus E (Pa) and Poisson's
-    ratio nu, by inverting ``dem_core.elastic.lattice_moduli`` (regular hexagon lattice of the
+    ratio nu, by inverting ``dem_core.contact.elastic.lattice_moduli`` (regular hexagon lattice of the
     same mean block area).
 
     With deformable blocks (``block_E``), the block compliance in series (centroid-to-edge
-    distance h = d/2 on each side, ``dem_core.elastic.series_stiffness``) is removed from the
+    distance h = d/2 on each side, ``dem_core.contact.elastic.series_stiffness``) is removed from the
     lattice's contact compliance; ValueError if the blocks alone are softer than the target.
     """
     if not (E > 0 and mean_block_area > 0):

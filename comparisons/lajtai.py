@@ -39,9 +39,9 @@ from comparisons.results import CaseResult, Curve
 from comparisons.scenes import lajtai as scene
 from comparisons.sweep import run_sweep
 from comparisons.variants import pick_variant
-from dem_core.plot import block_picture, draw_picture, magnification
-from dem_core.scene import build_model
-from dem_core.stages import run_stages
+from dem_core.output.plot import block_picture, draw_picture, magnification
+from dem_core.workflow.scene import build_model
+from dem_core.workflow.stages import run_stages
 
 DESCRIPTION = ("Virtual lab (UCS, tension, E/nu, cohesion calibration) and Lajtai's direct "
                "shear envelopes: open/closed joints, persistence, T, scale (thesis ch. 3)")

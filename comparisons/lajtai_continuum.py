@@ -27,6 +27,7 @@ from comparisons.scenes import lajtai as scene
 from continuum_ref.materials import Elastic, MohrCoulomb
 from continuum_ref.mesh import PolygonRegion, build_mesh
 from continuum_ref.model import ContinuumModel
+from dem_core.units import STANDARD_GRAVITY
 
 MPA = 1e6
 E_PLASTER, NU_PLASTER = scene.THESIS_BLOCK_E, 0.25
@@ -67,7 +68,7 @@ def shear_peak(sn, h=0.006, length=scene.SHEAR_LENGTH, height=scene.SHEAR_HEIGHT
     yc, gap = 0.5 * height, height / 6.0
     md = build_mesh([PolygonRegion("rock", _rect(0, 0, length, height)),
                      PolygonRegion("plate", _rect(0, height, length, height + plate))], h=h)
-    rho_plate = sn / (9.81 * plate)
+    rho_plate = sn / (STANDARD_GRAVITY * plate)
     model = ContinuumModel(md, {"rock": plaster(), "plate": Elastic(E=100 * E_PLASTER,
                                                                      nu=0.25)},
                            {"rock": 0.0, "plate": rho_plate})

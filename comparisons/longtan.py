@@ -5,9 +5,9 @@ Methods:
 
 - ``dem``: the damage model (open non-persistent cross joints, Voronoi flaws in the rock
   bridges and the columns near the face), gravity raised step by step to failure
-  (``dem_core.gravity_ramp``, watching points A and B), at the base flaw tensile strength
+  (``dem_core.workflow.gravity_ramp``, watching points A and B), at the base flaw tensile strength
   (4.81 MPa) first and, in the full variant, lower ones; the cracks at failure and the rupture
-  surface (``dem_core.rupture``: flaw cracks linked within ``RUPTURE_LINK`` block edges or one
+  surface (``dem_core.output.rupture``: flaw cracks linked within ``RUPTURE_LINK`` block edges or one
   column spacing, the group reaching the lower half of the face) with its angle to the normal
   of the continuous joints.
 - ``conventional``: the thesis's conventional UDEC: fully persistent cross joints carrying the

@@ -290,7 +290,7 @@ def block_figure(run: dict):
     the crest and upper slope (``ZOOM``), where the scarps form."""
     import matplotlib.pyplot as plt
 
-    from dem_core.plot import draw_picture
+    from dem_core.output.plot import draw_picture
 
     pic = run["picture"]
     fig, axes = plt.subplots(1, 2, figsize=(15, 5.8), gridspec_kw={"width_ratios": [1.6, 1]})

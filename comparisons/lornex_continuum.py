@@ -39,7 +39,7 @@ def run_continuum(p: scene.LornexParams, h: float) -> dict:
     from continuum_ref.from_scene import (apply_boundaries, apply_insitu, apply_water,
                                           mesh_from_scene, scene_bounds)
     from continuum_ref.model import ContinuumModel
-    from dem_core.insitu import InSitu
+    from dem_core.workflow.insitu import InSitu
 
     t0 = time.perf_counter()
     sc = scene.scene(p, with_stages=False)

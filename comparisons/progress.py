@@ -224,7 +224,7 @@ def line_sender(case: str):
 # ---------------------------------------------------------------------- estimates
 def ramp_status(rec, levels, elapsed: float, refine_to=None) -> tuple:
     """(stage text, estimated seconds left or None) of a load-parameter search just after a
-    level (``dem_core.limit.LimitRecord`` ``rec`` as an ``on_level`` callback sees it, planned
+    level (``dem_core.workflow.limit.LimitRecord`` ``rec`` as an ``on_level`` callback sees it, planned
     ``levels``, ``elapsed`` s so far, ``refine_to`` as given to the search). The estimate is the
     mean time per level so far times the levels still to run: in the first pass the planned
     levels after this one (a model that fails sooner ends sooner), once a level has failed the
@@ -267,7 +267,7 @@ def _halvings(rec, refine_to):
 
 
 def stage_reporter(model, n_stages: int):
-    """A ``dem_core.stages.run_stages`` progress callback for a sweep member: reports "k/n
+    """A ``dem_core.workflow.stages.run_stages`` progress callback for a sweep member: reports "k/n
     stages done" with the model's steps after each stage (left unknown: stages differ too much
     in length to extrapolate)."""
     done = [0]

@@ -1,8 +1,8 @@
 """Run a scene file from the command line: ``python -m comparisons run-scene FILE [--out DIR]
 [--vtk]``, so a slope can be modelled without writing Python.
 
-The scene (``dem_core.scene.Scene.load``: checked before any compute) is built as a DEM model
-(``build_model``) and its stages run (``dem_core.stages.run_stages``); ``<out>/<scene name>/``
+The scene (``dem_core.workflow.scene.Scene.load``: checked before any compute) is built as a DEM model
+(``build_model``) and its stages run (``dem_core.workflow.stages.run_stages``); ``<out>/<scene name>/``
 then holds, like a case's folder:
 
 - ``summary.json``: the scene's name, file and description, blocks and contacts, ``stages``
@@ -15,7 +15,7 @@ then holds, like a case's folder:
   stages before it are kept) and ``versions``;
 - ``stages.csv`` (the stage table: kind, verdict, steps, times, crack counts, each point's ux
   and uy in m) and, for a stage with a curve (``load``), ``stage<i>_<kind>.csv``;
-- ``blocks.png``: the final state (``dem_core.plot.plot_model``: blocks moved by their
+- ``blocks.png``: the final state (``dem_core.output.plot.plot_model``: blocks moved by their
   displacement times the magnification in the title, coloured by the true displacement, joints,
   the cracks through intact rock (flaws, region boundaries) as the broken edges by mode,
   support; the monitoring points);
@@ -59,7 +59,7 @@ def prepare(path, out="results"):
     results folder ``scene_folder(scene, out)``, created and writable. ValueError naming the
     file and what is wrong with it (missing, not JSON, not a valid scene: the item), or the
     folder that cannot be written."""
-    from dem_core.scene import Scene
+    from dem_core.workflow.scene import Scene
 
     try:
         scene = Scene.load(path)
@@ -83,8 +83,8 @@ def run_scene(path, out="results", vtk: bool = False, progress=None):
 
 def run_prepared(scene, folder, path, vtk=False, progress=None):
     """``run_scene`` after ``prepare``: (records, error)."""
-    from dem_core.scene import build_model
-    from dem_core.stages import run_stages
+    from dem_core.workflow.scene import build_model
+    from dem_core.workflow.stages import run_stages
 
     say = progress or (lambda message: None)
     t0 = time.perf_counter()
@@ -191,11 +191,11 @@ def block_figure(scene, model, records):
     """The final state: blocks moved by their displacement x the magnification in the title,
     coloured by the true displacement (m), joints, the cracks through intact rock (``INTACT``
     materials: flaws and region boundaries; a joint's breaks would hide the picture) as broken
-    edges (red tension, blue shear), support (``dem_core.plot.plot_model``), the monitoring
+    edges (red tension, blue shear), support (``dem_core.output.plot.plot_model``), the monitoring
     points (moved the same way)."""
     import matplotlib.pyplot as plt
 
-    from dem_core.plot import block_picture, magnification, plot_model
+    from dem_core.output.plot import block_picture, magnification, plot_model
 
     fig, ax = plt.subplots(figsize=(8, 6))
     k = magnification(block_picture(model, cracks=(), joints=()))
@@ -221,7 +221,7 @@ def block_figure(scene, model, records):
 
 
 def _report(summary, records, curves, vtk, name) -> str:
-    from dem_core.stages import stage_table
+    from dem_core.workflow.stages import stage_table
 
     lines = [f"# {summary['scene']} (scene file, DEM)", "", f"File: `{summary['file']}`"]
     if summary["description"]:

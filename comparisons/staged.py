@@ -1,10 +1,10 @@
 """What the field-slope cases share (thesis chapters 5-7): one scene's stage list run as a sweep
 member, its result as plain data, and the figures of a strength search.
 
-A field case's run is a ``dem_core.scene.Scene`` with all its stages: gravity (and an in-situ
+A field case's run is a ``dem_core.workflow.scene.Scene`` with all its stages: gravity (and an in-situ
 stress), a solve, excavations, and usually a search stage at the end (``strength_schedule``:
 the flaws' tensile strength lowered until the slope fails; ``factor_of_safety``). ``stage_run``
-runs it (``dem_core.stages.run_stages``), reports progress per stage and per level of a search
+runs it (``dem_core.workflow.stages.run_stages``), reports progress per stage and per level of a search
 (``comparisons.progress.report``, shown by the sweep), and returns:
 
 - ``label``, ``params`` (the member's, unchanged), ``blocks``, ``contacts``, ``runtime_s``,
@@ -20,7 +20,7 @@ runs it (``dem_core.stages.run_stages``), reports progress per stage and per lev
 - ``cracks``, ``crack_xy``, ``crack_mode`` (1 tension, 2 shear), ``crack_material``: the broken
   bonds of the materials whose names start with one of ``crack_materials`` (default the intact
   rock: flaws and region boundaries);
-- ``picture``: ``dem_core.plot.block_picture`` of the final state (the failed state when the
+- ``picture``: ``dem_core.output.plot.block_picture`` of the final state (the failed state when the
   search failed), with those cracks and the joints.
 
 ``stop_on_failure=True`` ends the run after the first stage whose verdict is "failed" (a solve
@@ -43,9 +43,9 @@ import numba
 import numpy as np
 
 from comparisons.progress import ramp_status, report
-from dem_core.plot import block_picture
-from dem_core.scene import build_model
-from dem_core.stages import check_stages, run_stages
+from dem_core.output.plot import block_picture
+from dem_core.workflow.scene import build_model
+from dem_core.workflow.stages import check_stages, run_stages
 
 __all__ = ["INTACT", "stage_run", "settled_stages", "search_rows", "history_figure",
            "coincident_rims", "curve_styles", "value_at_failure"]
@@ -117,7 +117,7 @@ def stage_run(sc, member: dict, crack_materials=INTACT, stop_on_failure=False,
 def settled_stages(stages) -> list:
     """The stages with ``settle=True`` wherever a stage has that option (solves, g-ramps,
     strength searches): each ends a solve or level early as "settled" once its displacement
-    has stopped growing and no bond broke (``dem_core.monitor.settled``)."""
+    has stopped growing and no bond broke (``dem_core.output.monitor.settled``)."""
     return [dataclasses.replace(st, settle=True)
             if dataclasses.is_dataclass(st) and
             any(f.name == "settle" for f in dataclasses.fields(st)) else st

@@ -17,7 +17,7 @@ that builds a DEM model writes its final state there (``Model.write_vtk``).
 
 A long member can also keep its own progress: ``checkpoint(params)`` is a file stem in the
 members folder, unique to the parameters, where a centrifuge member saves its model after each
-stable g-level (``dem_core.limit.save_resumable``) and from which it goes on when it is run
+stable g-level (``dem_core.workflow.limit.save_resumable``) and from which it goes on when it is run
 again; a run without ``resume`` first deletes the checkpoints an earlier run left.
 
 From Python: ``with case_output("results/adhikary", resume=True): adhikary.run("full")``.

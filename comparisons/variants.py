@@ -40,9 +40,9 @@ def pick_variant(case: str, variants: dict, variant, optional=None) -> tuple:
 
 def _checked(case: str, settings: dict) -> dict:
     """``settings``, its ``solver`` (if any) checked against the Model options a scene takes
-    (``dem_core.scene.SOLVER_KEYS``) and its ``settle`` (if any) a bool: a bad one is named
+    (``dem_core.workflow.scene.SOLVER_KEYS``) and its ``settle`` (if any) a bool: a bad one is named
     before any run starts."""
-    from dem_core.scene import SOLVER_KEYS
+    from dem_core.workflow.scene import SOLVER_KEYS
     solver = settings.get("solver", {})
     if not isinstance(solver, dict):
         raise ValueError(f"{case}: solver must be a mapping of Model options, got {solver!r}")

@@ -1,4 +1,4 @@
-"""The continuum model of a ``dem_core.scene.Scene``: the same regions meshed, the same
+"""The continuum model of a ``dem_core.workflow.scene.Scene``: the same regions meshed, the same
 monitoring points, the same boundaries (one definition for both methods).
 
 A scene boundary fixes velocity components of a block group; here it fixes the displacement
@@ -69,7 +69,7 @@ def scene_top(scene) -> np.ndarray:
     """(m, 2) polyline of the top of the scene's regions (their upper envelope, the surface an
     in-situ field with ``surface=None`` measures depth from; the DEM takes the same from its
     blocks' outer edges)."""
-    from dem_core.insitu import top_surface
+    from dem_core.workflow.insitu import top_surface
     edges = []
     for r in scene.geometry.regions:
         p = np.asarray(r.exterior, dtype=np.float64)
@@ -83,7 +83,7 @@ def apply_insitu(model, scene, stage) -> None:
 
 
 def apply_water(model, water_table, solve=False):
-    """Give ``model`` the pore pressure of a ``dem_core.water.WaterTable`` (effective-stress
+    """Give ``model`` the pore pressure of a ``dem_core.workflow.water.WaterTable`` (effective-stress
     analysis). ``solve=False``: set it (``ContinuumModel.set_pore_pressure``), before solving
     gravity; returns None. ``solve=True``: bring it in on a model at equilibrium with load
     stepping (``ContinuumModel.solve_pore_pressure``, the water stage of a staged

@@ -22,7 +22,7 @@ boundaries are equally spaced between those crossings, plus every ground vertex 
 crossing (so ground and base are smooth over each slice and the midpoint rule converges as
 b^2: 100 slices give F to 3e-5 relative, see tests/test_continuum_ssr.py).
 
-Signs and units: c and p in Pa (p compression positive, e.g. `dem_core.water.WaterTable.
+Signs and units: c and p in Pa (p compression positive, e.g. `dem_core.workflow.water.WaterTable.
 pressure`), phi in degrees, gamma in N/m^3 (the total, i.e. saturated where wet, unit weight),
 lengths in m, x horizontal, y up. The slope may face either way: a slope that rises to the
 right is mirrored internally and the circle is reported in the caller's coordinates.

@@ -35,10 +35,11 @@ from . import _dolfinx05 as dx
 from . import return_mapping as rm
 from .materials import Elastic
 from .newton import NewtonSettings, load_path, newton
+from dem_core.units import STANDARD_GRAVITY
 
 __all__ = ["ContinuumModel", "StageResult"]
 
-GRAVITY = 9.81     # m/s2
+GRAVITY = STANDARD_GRAVITY     # m/s2 (dem_core.units: one g for both methods)
 VOID_STIFFNESS = 1e-6
 
 
@@ -347,7 +348,7 @@ class ContinuumModel:
         Parameters
         ----------
         pressure : callable p(x, y) -> Pa, or None
-            Pore pressure at 1 g, compression positive (e.g. ``dem_core.water.WaterTable(...)
+            Pore pressure at 1 g, compression positive (e.g. ``dem_core.workflow.water.WaterTable(...)
             .pressure``), evaluated once at every quadrature point (zero in excavated cells: a
             void holds no water); None removes it. It is applied at the current g-level
             without a solve: set it before `solve_gravity`, or bring it in on a model at
@@ -439,7 +440,7 @@ class ContinuumModel:
         self._sig_now = self.sig_n.copy()
 
     def set_stress_field(self, field, top=None):
-        """Start from an in-situ stress field (``dem_core.insitu.InSitu``: sxx, syy, sxy,
+        """Start from an in-situ stress field (``dem_core.workflow.insitu.InSitu``: sxx, syy, sxy,
         compression +; the out-of-plane stress = sxx) at every quadrature point; ``top``: the
         model's top polyline when the field's surface is None (``from_scene.scene_top``).
         Displacements and gravity are not changed: solve gravity at the level the field

@@ -19,27 +19,32 @@ import math
 
 import numpy as np
 
-from . import critical_step, detection, io, monitor, step as stepper
-from .blocks import BlockSystem
-from . import support
+from .step import critical_step
+from .contact import detection
+from .output import io
+from .output import monitor
+from .step import run as stepper
+from .geometry.blocks import BlockSystem
+from .components import support
 from .components import exposed_faces, gravity_bundle, loads_bundle, servo_bundle, water_bundle
-from .components import deformable as zone_kernels
-from .components import deformable_bc as zone_bc
-from .contacts import initial_contacts, split_edges, surface_materials
-from .elastic import series_stiffness
+from .deformable import component as zone_kernels
+from .deformable import held as zone_bc
+from .contact.contacts import initial_contacts, split_edges, surface_materials
+from .contact.elastic import series_stiffness
 from .jit_cache import compiled
-from .materials import Material, material_table
-from . import parallel, region
-from .parallel import no_parallel, parallel_bundle
-from .rounding import rounding_bundle
-from .water import WaterTable
-from .zone_plasticity import strength_table
-from .state import (FIX_ROT, FIX_X, FIX_Y, CrackLog, Integrator, block_props,
+from .contact.materials import Material, material_table
+from .step.threads import parallel
+from .step.threads import region
+from .step.threads.parallel import no_parallel, parallel_bundle
+from .contact.rounding import rounding_bundle
+from .workflow.water import WaterTable
+from .deformable.zone_plasticity import strength_table
+from .units import STANDARD_GRAVITY
+from .step.state import (FIX_ROT, FIX_X, FIX_Y, CrackLog, Integrator, block_props,
                     state_at_rest)
 
 __all__ = ["Model", "ModelUnstable"]
 
-STANDARD_GRAVITY = 9.81
 STEP_ESTIMATES = ("bound", "eigen")     # Model(step_estimate=...): how the critical step is found
 
 
@@ -90,7 +95,7 @@ class Model:
         Steps between history records.
     threads : int
         Threads for the contact forces and the integration (1: the serial kernels; more:
-        ``dem_core.parallel`` and ``integration.advance_parallel``, bit-for-bit the same results,
+        ``dem_core.step.threads.parallel`` and ``integration.advance_parallel``, bit-for-bit the same results,
         used from ``region.MIN_CONTACTS`` live contacts up when gravity is the only force
         besides the contacts' (the steps of a call in one parallel region), from
         ``parallel.MIN_CONTACTS`` otherwise (a region a step): below that one thread is
@@ -593,13 +598,13 @@ class Model:
 
     def install(self, item):
         """Install support: a ``support.Cable`` (or bolt) or ``support.Liner``, or a list of
-        them, stress-free in the present pose (``dem_core.support``)."""
+        them, stress-free in the present pose (``dem_core.components.support``)."""
         support.install(self, item)
 
     def write_vtk(self, path):
         """Write the present state for ParaView (.vtu: blocks, contacts, cracks, support;
-        ``dem_core.vtk``, docs/output.md); returns the path."""
-        from .vtk import write_vtk
+        ``dem_core.output.vtk``, docs/output.md); returns the path."""
+        from .output.vtk import write_vtk
         return write_vtk(self, path)
 
     def set_water(self, table):

@@ -28,9 +28,9 @@ import time
 import numpy as np
 
 import field_slope as fs
-from dem_core.scene import build_model
-from dem_core.stages import FactorOfSafety, run_stages
-from dem_core.support import Cable
+from dem_core.workflow.scene import build_model
+from dem_core.workflow.stages import FactorOfSafety, run_stages
+from dem_core.components.support import Cable
 
 AREA, E_STEEL, YIELD = 625e-6, 98e9, 0.548e6             # m^2, Pa, N
 GROUT_K, GROUT_S, SPACING = 6e9, 0.32e6, 4.0             # N/m/m, N/m, m
@@ -105,7 +105,7 @@ def picture(model, fos, path="results/bolted_slope.png"):
     import matplotlib.pyplot as plt
     from pathlib import Path
 
-    from dem_core.plot import plot_model
+    from dem_core.output.plot import plot_model
 
     fig, ax = plt.subplots(figsize=(10, 6.5))
     plot_model(model, ax=ax)

@@ -3,8 +3,8 @@ by a flaw of T = 1 MPa along their 0.1 m shared edge; the upper one is pulled up
 peak pull is T x edge length = 100 kN/m (per metre of thickness), within 1 %.
 """
 from dem_core.geometry import GeometrySpec, rectangle
-from dem_core.materials import Material
-from dem_core.scene import Boundary, Scene, build_model
+from dem_core.contact.materials import Material
+from dem_core.workflow.scene import Boundary, Scene, build_model
 
 T, WIDTH = 1e6, 0.1
 

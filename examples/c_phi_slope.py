@@ -22,7 +22,7 @@ C, PHI, GAMMA = 20e3, 30.0, 20e3
 
 def slope_model(h, material, water=None):
     """The slope meshed at h near the face (3 h elsewhere), at equilibrium at 1 g; ``water``:
-    a ``dem_core.water.WaterTable`` (effective stress)."""
+    a ``dem_core.workflow.water.WaterTable`` (effective stress)."""
     from continuum_ref.mesh import PolygonRegion, build_mesh, refine_near
     from continuum_ref.model import ContinuumModel
 

@@ -12,8 +12,8 @@ the experiment's 80-85 g -25 % / +25 %.
 from pathlib import Path
 
 from comparisons.scenes import adhikary
-from dem_core.scene import Scene, build_model
-from dem_core.stages import RaiseGravity, run_stages
+from dem_core.workflow.scene import Scene, build_model
+from dem_core.workflow.stages import RaiseGravity, run_stages
 
 SCENE = Path(adhikary.__file__).with_name("adhikary.json")
 

@@ -33,12 +33,12 @@ from shapely.geometry import LineString
 from dem_core.geometry import GeometrySpec, JointSet
 from dem_core.geometry.profiles import slope_profile
 from dem_core.geometry.regions import Region
-from dem_core.insitu import InSitu
-from dem_core.materials import Material
-from dem_core.scene import Boundary, Scene, build_model
-from dem_core.stages import (Excavate, FactorOfSafety, Gravity, Solve, run_stages,
+from dem_core.workflow.insitu import InSitu
+from dem_core.contact.materials import Material
+from dem_core.workflow.scene import Boundary, Scene, build_model
+from dem_core.workflow.stages import (Excavate, FactorOfSafety, Gravity, Solve, run_stages,
                              stage_table)
-from dem_core.water import WaterTable
+from dem_core.workflow.water import WaterTable
 
 H, FACE, BASE, CREST, TOE = 30.0, 60.0, 15.0, 40.0, 30.0      # m, deg, m, m, m
 BEDDING = 40.0                                                 # joint dip, deg
@@ -153,7 +153,7 @@ def picture(model, fos, path="results/field_slope_mechanism.png"):
     import matplotlib.pyplot as plt
     from pathlib import Path
 
-    from dem_core.plot import plot_model
+    from dem_core.output.plot import plot_model
 
     fig, ax = plt.subplots(figsize=(10, 5.5))
     plot_model(model, ax=ax)

@@ -8,9 +8,9 @@ material "boundary:base|block"); no damping, so the motion is the dynamics of th
 import math
 
 from dem_core.geometry import GeometrySpec, rectangle
-from dem_core.materials import Material
-from dem_core.scene import Boundary, Scene, build_model
-from dem_core.stages import Cycle, Gravity, run_stages
+from dem_core.contact.materials import Material
+from dem_core.workflow.scene import Boundary, Scene, build_model
+from dem_core.workflow.stages import Cycle, Gravity, run_stages
 
 THETA, PHI = 30.0, 20.0
 

@@ -4,9 +4,9 @@ import math
 
 
 def slide(friction: float) -> float:
-    from dem_core.materials import Material
+    from dem_core.contact.materials import Material
     from dem_core.model import Model
-    from dem_core.simple_blocks import from_polygons
+    from dem_core.geometry.simple_blocks import from_polygons
 
     bs = from_polygons([[(0, 0), (20, 0), (20, 1), (0, 1)], [(2, 1), (3, 1), (3, 1.5), (2, 1.5)]],
                        edge_material="joint:base", groups={"base": [0], "block": [1]})

@@ -6,7 +6,7 @@ import pytest
 
 from comparisons.scenes import adhikary as scene
 from dem_core.geometry import build_block_system
-from dem_core.gravity_ramp import raise_gravity
+from dem_core.workflow.gravity_ramp import raise_gravity
 
 
 @pytest.fixture(scope="module")

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 from comparisons import cli, registry
-from dem_core.materials import Material
+from dem_core.contact.materials import Material
 from dem_core.model import Model
-from dem_core.simple_blocks import from_polygons
+from dem_core.geometry.simple_blocks import from_polygons
 
 SQUARE = [(0, 0), (1, 0), (1, 1), (0, 1)]
 

@@ -13,9 +13,9 @@ from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
 
 from dem_core.geometry import (GeometrySpec, JointLine, Voronoi, build_block_system,  # noqa: E402
                                rectangle)
-from dem_core.materials import Material  # noqa: E402
+from dem_core.contact.materials import Material  # noqa: E402
 from dem_core.model import Model  # noqa: E402
-from dem_core.plot import (SHEAR, TENSION, JOINT, block_picture, draw_picture,  # noqa: E402
+from dem_core.output.plot import (SHEAR, TENSION, JOINT, block_picture, draw_picture,  # noqa: E402
                            magnification, plot_model)
 
 

@@ -134,7 +134,7 @@ def test_conventional_model_does_not_fracture(quick):
 
 def test_scene_round_trips_and_bad_params_are_refused(tmp_path):
     from comparisons.scenes import checkerboard as cb
-    from dem_core.scene import Scene
+    from dem_core.workflow.scene import Scene
 
     p = cb.CheckerboardParams(**checkerboard.VARIANTS["quick"]["params"])
     sc = cb.scene(p, checkerboard.member_stages("supported", p, checkerboard.VARIANTS["quick"]))

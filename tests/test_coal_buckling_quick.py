@@ -11,7 +11,7 @@ import pytest
 
 from comparisons import coal_buckling
 from comparisons.scenes import coal_buckling as scene
-from dem_core.scene import Scene
+from dem_core.workflow.scene import Scene
 
 
 @pytest.fixture(scope="module")

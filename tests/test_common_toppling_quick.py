@@ -8,7 +8,7 @@ import pytest
 
 from comparisons import common_toppling as case
 from comparisons.scenes import common_toppling as scene
-from dem_core.scene import Scene
+from dem_core.workflow.scene import Scene
 
 
 @pytest.fixture(scope="module")

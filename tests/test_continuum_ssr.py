@@ -127,7 +127,7 @@ def test_pore_pressure_gives_effective_stress_in_a_column():
     from continuum_ref.materials import Elastic
     from continuum_ref.mesh import PolygonRegion, build_mesh
     from continuum_ref.model import ContinuumModel
-    from dem_core.water import WaterTable
+    from dem_core.workflow.water import WaterTable
     md = build_mesh([PolygonRegion("soil", [(0, 0), (1, 0), (1, 4), (0, 4)])], 0.5)
     model = ContinuumModel(md, Elastic(1e8, 0.3), 2000.0)
     model.fix(lambda x: np.isclose(x[1], 0.0), (0, 1))
@@ -186,7 +186,7 @@ def test_ssr_with_a_water_table_drops_like_bishop(associated, bishop_dry, dry_ss
     # front (no pore pressure at the free surface); effective stress in both methods, the
     # same total unit weight. Measured at h = 0.5 m: see docs/continuum.md.
     from continuum_ref import ssr
-    from dem_core.water import WaterTable
+    from dem_core.workflow.water import WaterTable
     water = WaterTable(WATER)
     wet = le.critical_circle(GROUND, C, PHI, GAMMA, pore_pressure=water.pressure, bottom=0.0)
     result = ssr.factor_of_safety(_slope_model(0.5, associated, water), [associated],

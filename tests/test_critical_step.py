@@ -1,13 +1,13 @@
 """The critical step from the largest eigenvalue (``Model(step_estimate="eigen")``,
-``dem_core.critical_step``): the closed form of a bonded block, and the stability limit."""
+``dem_core.step.critical_step``): the closed form of a bonded block, and the stability limit."""
 import math
 
 import numpy as np
 import pytest
 
-from dem_core.materials import Material
+from dem_core.contact.materials import Material
 from dem_core.model import Model, ModelUnstable
-from dem_core.simple_blocks import brick_grid, from_polygons
+from dem_core.geometry.simple_blocks import brick_grid, from_polygons
 
 
 def block_on_base(kn, ks, **kw):

@@ -1,4 +1,4 @@
-"""Deformable blocks (``Model(deformable=...)``, ``dem_core/components/deformable.py``):
+"""Deformable blocks (``Model(deformable=...)``, ``dem_core/deformable/component.py``):
 closed-form checks of the floating frame.
 
 - Without the option (or with a deformable block that touches nothing) every rigid block's
@@ -19,9 +19,9 @@ import numba
 import numpy as np
 import pytest
 
-from dem_core.materials import Material
+from dem_core.contact.materials import Material
 from dem_core.model import Model
-from dem_core.simple_blocks import from_polygons
+from dem_core.geometry.simple_blocks import from_polygons
 
 RHO, G, H = 2000.0, 9.81, 1.0
 GLUED = dict(cohesion=1e9, tensile_strength=1e9)
@@ -45,7 +45,7 @@ def column(E=1e7, nu=0.25, size=0.2, deformable=True, kn=1e10, ks=1e9, bases=1, 
 def _rigid_view(m):
     """``m`` as the unbalanced ratio of its frames alone sees it (an empty zone bundle)."""
     from types import SimpleNamespace
-    from dem_core.components.deformable import no_deformable
+    from dem_core.deformable.component import no_deformable
     return SimpleNamespace(**{**vars(m), "zone_state": no_deformable()})
 
 
@@ -93,7 +93,7 @@ def test_a_rigid_model_finds_contacts_without_the_deformed_points():
     deformable: a signature of its own that leaves the deformed points out (a first search
     compiles in seconds, not tens of seconds); a deformable model at rest gives the same
     numbers through the deformed points."""
-    from dem_core import detection
+    from dem_core.contact import detection
     plain, zoned = two_stacks(False), two_stacks(True)
     rows = np.arange(plain.contacts.n)
     assert np.array_equal(plain.contacts.block_a[rows], zoned.contacts.block_a[rows])
@@ -225,12 +225,12 @@ def test_bad_input_is_refused_naming_it(kw, word):
 def test_deformable_voronoi_specimen_threaded_is_bit_for_bit_serial(monkeypatch):
     """Every block of a Voronoi specimen deformable: the threaded contact kernel gives the
     serial numbers, and every contact of the tessellation acts on both blocks' zones."""
-    from dem_core.components.boundary_points import contact_sides as _sides
-    from dem_core.contacts import ANCHOR_MID
+    from dem_core.contact.boundary_points import contact_sides as _sides
+    from dem_core.contact.contacts import ANCHOR_MID
     from dem_core.geometry import GeometrySpec, Voronoi, build_block_system, rectangle
 
-    monkeypatch.setattr("dem_core.parallel.MIN_CONTACTS", 0)
-    monkeypatch.setattr("dem_core.region.MIN_CONTACTS", 0)
+    monkeypatch.setattr("dem_core.step.threads.parallel.MIN_CONTACTS", 0)
+    monkeypatch.setattr("dem_core.step.threads.region.MIN_CONTACTS", 0)
     bs = build_block_system(GeometrySpec(
         [rectangle("rock", 0, 0, 0.1, 0.05), rectangle("base", 0, -0.01, 0.1, 0)],
         voronoi={"rock": Voronoi(edge_length=0.006, seed=2)}))
@@ -258,7 +258,7 @@ def test_deformable_voronoi_specimen_threaded_is_bit_for_bit_serial(monkeypatch)
 
 def test_a_scene_makes_its_regions_deformable():
     from dem_core.geometry import GeometrySpec, rectangle
-    from dem_core.scene import Boundary, Scene, build_model
+    from dem_core.workflow.scene import Boundary, Scene, build_model
 
     geo = GeometrySpec([rectangle("base", 0, -0.02, 0.1, 0), rectangle("rock", 0, 0, 0.1, 0.2)])
     sc = Scene(geo, {"*": Material(kn=1e10, ks=5e9, friction=35, **GLUED)}, density=2500.0,

@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 
 from dem_core.geometry import GeometrySpec, build_block_system, rectangle
-from dem_core.materials import Material
+from dem_core.contact.materials import Material
 from dem_core.model import Model
-from dem_core.scene import Boundary, Scene, group_sides
-from dem_core.zone_mesh import face_segments, mesh_polygons
+from dem_core.workflow.scene import Boundary, Scene, group_sides
+from dem_core.deformable.zone_mesh import face_segments, mesh_polygons
 
 E, NU, RHO = 1e9, 0.25, 2500.0
 ROCK = {"flaw:*": Material(kn=1e10, ks=1e10, friction=30.0)}
@@ -149,7 +149,7 @@ def test_slipping_and_open_contacts_between_deformable_columns_keep_the_energy()
 
 def test_conventional_scene_has_joint_blocks_deformable_and_optionally_plastic():
     from comparisons.scenes import adhikary
-    from dem_core.scene import build_model, conventional
+    from dem_core.workflow.scene import build_model, conventional
     sc = adhikary.scene(adhikary.AdhikaryParams(edge_length=0.006))
     conv = conventional(sc, 0.005, plastic=True)
     assert sc.geometry.voronoi and not conv.geometry.voronoi      # the scene is not changed

@@ -17,7 +17,7 @@ from scipy.optimize import brentq
 
 from comparisons import highwood
 from comparisons.scenes import highwood as scene
-from dem_core.scene import Scene
+from dem_core.workflow.scene import Scene
 
 
 @pytest.fixture(scope="module")

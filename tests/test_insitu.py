@@ -1,4 +1,4 @@
-"""In-situ stress (dem_core.insitu) in both methods:
+"""In-situ stress (dem_core.workflow.insitu) in both methods:
 
 - the traction of the field on a plane is the Mohr-circle closed form; depth is measured below
   a level, a polyline or the model's own top (a slope's profile);
@@ -20,11 +20,12 @@ import numpy as np
 import pytest
 
 from dem_core.geometry import GeometrySpec, JointSet, Voronoi, rectangle, slope_profile
-from dem_core.insitu import InSitu, model_top, strong_then_real
-from dem_core.materials import Material
-from dem_core.model import STANDARD_GRAVITY as G
-from dem_core.scene import Boundary, Scene, build_model
-from dem_core.stages import Gravity, Solve, run_stages
+from dem_core.workflow.insitu import InSitu, model_top
+from dem_core.workflow.recipes import strong_then_real
+from dem_core.contact.materials import Material
+from dem_core.units import STANDARD_GRAVITY as G
+from dem_core.workflow.scene import Boundary, Scene, build_model
+from dem_core.workflow.stages import Gravity, Solve, run_stages
 
 RHO = 2600.0
 SIDE_GROUPS = {"base": {"touching": "bottom"}, "left side": {"touching": "left"},

@@ -5,7 +5,7 @@ with persistence k, k = 1 on the 30 degree friction line (within 10 %), T = 1.0 
 T = 0.5 MPa, and the calibration reaching its target UCS (within 5 %).
 
 k = 1 used to lock (a vertex of the lower half at a corner of the upper half was given the
-upper block's free end face, a spring across the joint; fixed in dem_core.detection by the
+upper block's free end face, a spring across the joint; fixed in dem_core.contact.detection by the
 support rule). The calibration reaches 4.1 MPa only near c = 0: the UCS of our Voronoi
 specimen at the thesis's c = 1.2 MPa is about 6.2 MPa (docs/comparisons.md, "## lajtai").
 

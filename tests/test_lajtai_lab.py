@@ -3,7 +3,7 @@
 Closed forms used:
 - Lajtai's tensile branch tau = sqrt(T (T + s)) is the stress state (s_yy = s, s_xx = 0,
   t_xy = tau) whose minor principal stress is -T (thesis eq. 3.6).
-- The regular rigid-hexagon lattice (dem_core.elastic.lattice_moduli) inverted for kn, ks.
+- The regular rigid-hexagon lattice (dem_core.contact.elastic.lattice_moduli) inverted for kn, ks.
 """
 import math
 
@@ -13,7 +13,7 @@ import pytest
 from comparisons import lab
 from comparisons.lajtai import lajtai_envelope, mc_cohesion_from_ucs, ucs_member
 from comparisons.scenes import lajtai as scene
-from dem_core.elastic import lattice_moduli, series_stiffness
+from dem_core.contact.elastic import lattice_moduli, series_stiffness
 
 MPA = 1e6
 

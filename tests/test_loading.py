@@ -1,4 +1,4 @@
-"""Loading paths as stages (dem_core.loading): a servo-held force and a displacement-controlled
+"""Loading paths as stages (dem_core.workflow.loading): a servo-held force and a displacement-controlled
 load, on one rigid block on a fixed base (two blocks, one face-to-face contact of length 1 m):
 
 - ``ServoLoad`` settles the block at the target stress, where the contact closes by
@@ -15,10 +15,10 @@ import numpy as np
 import pytest
 
 from dem_core.geometry import GeometrySpec, rectangle
-from dem_core.loading import Load, ServoLoad
-from dem_core.materials import Material
-from dem_core.scene import Boundary, Scene, build_model
-from dem_core.stages import run_stages
+from dem_core.workflow.loading import Load, ServoLoad
+from dem_core.contact.materials import Material
+from dem_core.workflow.scene import Boundary, Scene, build_model
+from dem_core.workflow.stages import run_stages
 
 KN, T = 1e10, 0.5e6
 

@@ -26,7 +26,7 @@ import pytest
 
 from comparisons import lornex
 from comparisons.scenes import lornex as scene
-from dem_core.scene import Scene
+from dem_core.workflow.scene import Scene
 
 
 @pytest.fixture(scope="module")

@@ -10,9 +10,9 @@ import math
 
 import pytest
 
-from dem_core.materials import Material
+from dem_core.contact.materials import Material
 from dem_core.model import Model
-from dem_core.simple_blocks import from_polygons
+from dem_core.geometry.simple_blocks import from_polygons
 
 G = 9.81
 EPS, H = 2e-6, 1e-5          # the corner's distance inside the end face and the joint face, m

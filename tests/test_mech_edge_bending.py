@@ -4,9 +4,9 @@ stiffness kn L^3 / 12 and breaks at the elastic moment T L^2 / 6 (issue 24, item
 import numpy as np
 import pytest
 
-from dem_core.materials import Material
+from dem_core.contact.materials import Material
 from dem_core.model import Model
-from dem_core.simple_blocks import from_polygons
+from dem_core.geometry.simple_blocks import from_polygons
 
 KN, T, L = 1e10, 1e6, 0.5           # Pa/m, Pa, m (edge length)
 
@@ -44,8 +44,8 @@ def test_a_bonded_edge_breaks_at_the_elastic_moment(factor, breaks):
 
 
 def test_the_threaded_kernel_gives_the_same_bits_with_edge_elements(monkeypatch):
-    monkeypatch.setattr("dem_core.parallel.MIN_CONTACTS", 0)     # a small model, threaded
-    monkeypatch.setattr("dem_core.region.MIN_CONTACTS", 0)
+    monkeypatch.setattr("dem_core.step.threads.parallel.MIN_CONTACTS", 0)     # a small model, threaded
+    monkeypatch.setattr("dem_core.step.threads.region.MIN_CONTACTS", 0)
     a, b = pair(1), pair(2)
     for m in (a, b):
         m.apply_load("free", fx=1e3, moment=0.3 * T * L ** 2 / 6)

@@ -14,9 +14,9 @@ import math
 import numpy as np
 import pytest
 
-from dem_core.materials import Material
+from dem_core.contact.materials import Material
 from dem_core.model import Model
-from dem_core.simple_blocks import brick_grid, from_polygons
+from dem_core.geometry.simple_blocks import brick_grid, from_polygons
 
 G = 9.81
 

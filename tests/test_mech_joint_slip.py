@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from dem_core.geometry import GeometrySpec, JointSet, Region, Voronoi, build_block_system, rectangle
-from dem_core.materials import Material
+from dem_core.contact.materials import Material
 from dem_core.model import Model
 
 LENGTH, WIDTH, EDGE = 0.1, 0.01, 0.0035

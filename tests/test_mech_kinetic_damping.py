@@ -10,9 +10,9 @@
 import numpy as np
 import pytest
 
-from dem_core.materials import Material
+from dem_core.contact.materials import Material
 from dem_core.model import Model
-from dem_core.simple_blocks import brick_grid
+from dem_core.geometry.simple_blocks import brick_grid
 
 from test_mech_specimens import materials, voronoi_bar
 

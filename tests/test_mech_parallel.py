@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from dem_core.geometry import GeometrySpec, Voronoi, build_block_system, rectangle
-from dem_core.materials import Material
+from dem_core.contact.materials import Material
 from dem_core.model import Model
 
 
@@ -29,8 +29,8 @@ def _run(threads, edges=False, load=False, rounding=0.0):
 @pytest.mark.parametrize("edges, load, rounding", [(False, False, 0.0), (True, False, 0.0),
                                                    (True, True, 0.0), (False, False, 2e-4)])
 def test_threaded_kernel_is_bit_for_bit_serial(monkeypatch, edges, load, rounding):
-    monkeypatch.setattr("dem_core.parallel.MIN_CONTACTS", 0)     # a small model, threaded
-    monkeypatch.setattr("dem_core.region.MIN_CONTACTS", 0)
+    monkeypatch.setattr("dem_core.step.threads.parallel.MIN_CONTACTS", 0)     # a small model, threaded
+    monkeypatch.setattr("dem_core.step.threads.region.MIN_CONTACTS", 0)
     serial = _run(1, edges, load, rounding)
     threaded = _run(2, edges, load, rounding)
     assert serial.crack_counts()["tension"] + serial.crack_counts()["shear"] > 0
@@ -50,8 +50,8 @@ def test_threaded_integration_pass_is_bit_for_bit_serial():
     """``integration.advance_parallel`` (the two-region step, from MIN_THREADED_BLOCKS blocks
     up) moves every block as ``integration.advance`` does: five steps of random forces on a
     specimen of several chunks."""
-    from dem_core.state import copy_bundle
-    from dem_core.integration import advance, advance_parallel
+    from dem_core.step.state import copy_bundle
+    from dem_core.step.integration import advance, advance_parallel
     bs = build_block_system(GeometrySpec(
         [rectangle("rock", 0, 0, 0.3, 0.15), rectangle("base", 0, -0.01, 0.3, 0)],
         voronoi={"rock": Voronoi(edge_length=0.004, seed=2)}))      # ~1,000 blocks: 4 chunks
@@ -75,7 +75,7 @@ def test_threaded_integration_pass_is_bit_for_bit_serial():
 def test_the_threaded_step_is_one_region_only_when_gravity_is_the_only_other_force():
     """``step.only_gravity`` picks the one-region step: true with gravity alone, false as soon
     as another force component is in the scene (here an applied load)."""
-    from dem_core.step import only_gravity
+    from dem_core.step.run import only_gravity
     bs = build_block_system(GeometrySpec([rectangle("rock", 0, 0, 0.02, 0.01)]))
     flaw = Material(kn=1e10, ks=5e9, tensile_strength=2e4, cohesion=4e4, friction=35)
     model = Model(bs, {"flaw:*": flaw, "boundary:*": flaw}, density=2500.0)
@@ -91,8 +91,8 @@ def test_an_unstable_threaded_step_is_reported(monkeypatch, load):
     """A time step far above the critical one: both shapes of the threaded step stop and name
     an unstable block, as the serial step does."""
     from dem_core.model import ModelUnstable
-    monkeypatch.setattr("dem_core.parallel.MIN_CONTACTS", 0)
-    monkeypatch.setattr("dem_core.region.MIN_CONTACTS", 0)
+    monkeypatch.setattr("dem_core.step.threads.parallel.MIN_CONTACTS", 0)
+    monkeypatch.setattr("dem_core.step.threads.region.MIN_CONTACTS", 0)
     bs = build_block_system(GeometrySpec(
         [rectangle("rock", 0, 0, 0.1, 0.05), rectangle("base", 0, -0.01, 0.1, 0)],
         voronoi={"rock": Voronoi(edge_length=0.006, seed=2)}))

@@ -4,10 +4,10 @@ import math
 import numpy as np
 import pytest
 
-from dem_core.contacts import UNBONDED
-from dem_core.materials import Material, material_table
+from dem_core.contact.contacts import UNBONDED
+from dem_core.contact.materials import Material, material_table
 from dem_core.model import Model, ModelUnstable
-from dem_core.simple_blocks import brick_grid, from_polygons
+from dem_core.geometry.simple_blocks import brick_grid, from_polygons
 
 G = 9.81
 JOINT = Material(kn=1e9, ks=1e9, friction=30)

@@ -4,7 +4,7 @@ Closed forms used:
 - A regular brick bar in tension breaks when the applied stress reaches the flaw tensile
   strength T (its flaws are perpendicular to the load).
 - A rigid-block lattice carries uniaxial stress s with flaw normal stress up to
-  s (3 kn + ks) / (2 (kn + ks)) (``dem_core.elastic``), which is s for ks = kn: a Voronoi bar
+  s (3 kn + ks) / (2 (kn + ks)) (``dem_core.contact.elastic``), which is s for ks = kn: a Voronoi bar
   with ks = kn breaks near T (the irregular blocks lower it a little; docs/mechanics.md).
 - Euler-Bernoulli cantilever under its own weight q = rho g H: tip deflection q L^4 / (8 E I),
   I = H^3 / 12, with E the modulus measured on a bar of the same assembly.
@@ -12,11 +12,11 @@ Closed forms used:
 import numpy as np
 import pytest
 
-from dem_core.elastic import lattice_moduli, spacing_from_area
+from dem_core.contact.elastic import lattice_moduli, spacing_from_area
 from dem_core.geometry import GeometrySpec, Voronoi, build_block_system, rectangle
-from dem_core.materials import Material
+from dem_core.contact.materials import Material
 from dem_core.model import Model
-from dem_core.simple_blocks import brick_grid
+from dem_core.geometry.simple_blocks import brick_grid
 
 T = 1.0e6
 KN = 1.0e12

@@ -9,9 +9,9 @@ Longtan slope a vertex went 6.7 mm deep into a joint block that way and the mode
 """
 import pytest
 
-from dem_core.materials import Material
+from dem_core.contact.materials import Material
 from dem_core.model import Model
-from dem_core.simple_blocks import from_polygons
+from dem_core.geometry.simple_blocks import from_polygons
 
 H = 1e-5                  # the block's bottom is pressed this far into the base's top, m
 

@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from dem_core.geometry import GeometrySpec, Voronoi, build_block_system, rectangle
-from dem_core.materials import Material
+from dem_core.contact.materials import Material
 from dem_core.model import Model
-from dem_core.simple_blocks import from_polygons
+from dem_core.geometry.simple_blocks import from_polygons
 
 
 def specimen(min_fraction=0.15, seed=2, relax=20):

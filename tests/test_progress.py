@@ -18,9 +18,9 @@ from comparisons.progress import Progress, Status, duration, ramp_status
 from comparisons.sweep import run_sweep
 from dem_core.geometry import GeometrySpec
 from dem_core.geometry.regions import rectangle
-from dem_core.limit import LimitRecord
-from dem_core.materials import Material
-from dem_core.scene import Boundary, Scene
+from dem_core.workflow.limit import LimitRecord
+from dem_core.contact.materials import Material
+from dem_core.workflow.scene import Boundary, Scene
 
 HERE = Path(__file__).resolve().parent
 G_LEVELS = (1.0, 2.0, 3.0)

@@ -1,4 +1,4 @@
-"""The threads' many-step region (``dem_core.region``) and its atomics: the serial numbers bit
+"""The threads' many-step region (``dem_core.step.threads.region``) and its atomics: the serial numbers bit
 for bit with any number of chunks and threads, one thread alone included (no thread ever waits
 for a chunk nobody took), and the thresholds that pick it."""
 import numba
@@ -6,12 +6,12 @@ import numpy as np
 import pytest
 from numba import njit, prange
 
-from dem_core import parallel, region
-from dem_core.atomics import compare_exchange, fetch_add, load_acquire, store_release
+from dem_core.step.threads import parallel, region
+from dem_core.step.threads.atomics import compare_exchange, fetch_add, load_acquire, store_release
 from dem_core.geometry import GeometrySpec, Voronoi, build_block_system, rectangle
-from dem_core.materials import Material
+from dem_core.contact.materials import Material
 from dem_core.model import Model
-from dem_core.step import NEED_SEARCH, UNSTABLE
+from dem_core.step.run import NEED_SEARCH, UNSTABLE
 
 TWO = pytest.mark.skipif(numba.config.NUMBA_NUM_THREADS < 2, reason="needs 2 threads")
 

@@ -1,4 +1,4 @@
-"""Rounded corners (``Model(rounding=d)``, ``dem_core/rounding.py``): closed-form checks.
+"""Rounded corners (``Model(rounding=d)``, ``dem_core/contact/rounding.py``): closed-form checks.
 
 - d = 0 is the sharp-cornered model to the bit: the forces, poses and stresses of a small scene
   (a block sliding on a base, a tilted block sliding off its end) equal those stored from the
@@ -15,10 +15,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from dem_core.materials import Material
+from dem_core.contact.materials import Material
 from dem_core.model import Model
-from dem_core.rounding import corner_centres
-from dem_core.simple_blocks import from_polygons
+from dem_core.contact.rounding import corner_centres
+from dem_core.geometry.simple_blocks import from_polygons
 
 REFERENCE = Path(__file__).parent / "data" / "rounding_sharp_reference.npz"
 KN = 1e9

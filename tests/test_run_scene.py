@@ -12,9 +12,9 @@ import pytest
 from comparisons import cli
 from dem_core.geometry import GeometrySpec
 from dem_core.geometry.regions import rectangle
-from dem_core.materials import Material
-from dem_core.scene import Boundary, Scene, build_model
-from dem_core.stages import Excavate, FactorOfSafety, Gravity, Solve, run_stages, stage_table
+from dem_core.contact.materials import Material
+from dem_core.workflow.scene import Boundary, Scene, build_model
+from dem_core.workflow.stages import Excavate, FactorOfSafety, Gravity, Solve, run_stages, stage_table
 
 TILT, PHI = 20.0, 30.0
 

@@ -4,11 +4,11 @@ import math
 import numpy as np
 import pytest
 
-from dem_core.materials import Material
+from dem_core.contact.materials import Material
 from dem_core.model import Model
-from dem_core.gravity_ramp import raise_gravity
-from dem_core.rupture import angle_to_joint_normal, depth_from_face, find_rupture
-from dem_core.simple_blocks import brick_grid
+from dem_core.workflow.gravity_ramp import raise_gravity
+from dem_core.output.rupture import angle_to_joint_normal, depth_from_face, find_rupture
+from dem_core.geometry.simple_blocks import brick_grid
 
 
 def _line_of_cracks(start, angle_deg, length, spacing, rng, noise):

@@ -17,9 +17,9 @@ import pytest
 
 from comparisons.scenes import adhikary
 from dem_core.geometry import GeometrySpec, rectangle
-from dem_core.materials import Material
-from dem_core.scene import Boundary, Scene, build_model
-from dem_core.stages import (ChangeMaterial, Cycle, Excavate, Gravity, RaiseGravity, Solve,
+from dem_core.contact.materials import Material
+from dem_core.workflow.scene import Boundary, Scene, build_model
+from dem_core.workflow.stages import (ChangeMaterial, Cycle, Excavate, Gravity, RaiseGravity, Solve,
                              run_stages)
 
 

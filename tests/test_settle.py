@@ -1,4 +1,4 @@
-"""Early settling of a quasi-static level (``settle``; dem_core.monitor.settled): a level that
+"""Early settling of a quasi-static level (``settle``; dem_core.output.monitor.settled): a level that
 has stopped moving and cracking ends as "settled" instead of running to its step limit, and the
 search's answer does not move."""
 import dataclasses
@@ -7,10 +7,10 @@ import math
 import pytest
 
 from comparisons.staged import settled_stages, stage_run
-from dem_core.monitor import settled
-from dem_core.scene import build_model
-from dem_core.stages import Solve, run_stages
-from dem_core.strength import FactorOfSafety
+from dem_core.output.monitor import settled
+from dem_core.workflow.scene import build_model
+from dem_core.workflow.stages import Solve, run_stages
+from dem_core.workflow.strength import FactorOfSafety
 from test_strength import THETA, block_on_plane
 
 STEPS = [0, 100, 200, 300, 400, 500]

@@ -7,13 +7,13 @@ import numpy as np
 import pytest
 
 from dem_core.geometry import GeometrySpec, rectangle
-from dem_core.materials import Material
+from dem_core.contact.materials import Material
 from dem_core.model import Model
-from dem_core.scene import Boundary, Scene, build_model
-from dem_core.simple_blocks import brick_grid
-from dem_core.stages import (Cycle, Displace, Excavate, FactorOfSafety, Gravity, Solve,
+from dem_core.workflow.scene import Boundary, Scene, build_model
+from dem_core.geometry.simple_blocks import brick_grid
+from dem_core.workflow.stages import (Cycle, Displace, Excavate, FactorOfSafety, Gravity, Solve,
                              StrengthSchedule, run_stages, stage_table)
-from dem_core.strength import reduced_strength
+from dem_core.workflow.strength import reduced_strength
 
 G = 9.81
 THETA = 30.0

@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 
 from dem_core.geometry import GeometrySpec, rectangle
-from dem_core.materials import Material
+from dem_core.contact.materials import Material
 from dem_core.model import Model
-from dem_core.scene import Boundary, Scene, build_model
-from dem_core.stages import Cycle, run_stages, stage_from_dict, stage_to_dict
-from dem_core.support import Cable, Liner, decay_length, support_log
+from dem_core.workflow.scene import Boundary, Scene, build_model
+from dem_core.workflow.stages import Cycle, run_stages, stage_from_dict, stage_to_dict
+from dem_core.components.support import Cable, Liner, decay_length, support_log
 
 G = 9.81
 
@@ -261,7 +261,7 @@ def test_a_pretensioned_bolt_with_a_plate_presses_its_block_down_by_its_force():
 def test_cables_and_liners_are_written_for_paraview(tmp_path):
     import meshio
 
-    from dem_core.vtk import KIND_SUPPORT
+    from dem_core.output.vtk import KIND_SUPPORT
 
     m = pulled_cable(two_blocks())
     m.apply_load("block", fx=1e5)

@@ -12,7 +12,7 @@ import pytest
 
 from comparisons import underdip
 from comparisons.scenes import underdip as scene
-from dem_core.scene import Scene
+from dem_core.workflow.scene import Scene
 
 
 @pytest.fixture(scope="module")

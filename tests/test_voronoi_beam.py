@@ -19,8 +19,8 @@ import numpy as np
 import pytest
 
 from dem_core.geometry import GeometrySpec, Voronoi, build_block_system, rectangle
-from dem_core.gravity_ramp import raise_gravity
-from dem_core.materials import Material
+from dem_core.workflow.gravity_ramp import raise_gravity
+from dem_core.contact.materials import Material
 from dem_core.model import Model
 
 H, L, RHO, T, G0 = 0.01, 0.1, 2500.0, 1.1e6, 9.81

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 from dem_core.geometry import GeometrySpec, Voronoi, build_block_system, rectangle
-from dem_core.materials import Material
+from dem_core.contact.materials import Material
 from dem_core.model import Model
-from dem_core.vtk import KIND_BLOCK, KIND_CONTACT, KIND_CRACK, VtkSeries, write_vtk
+from dem_core.output.vtk import KIND_BLOCK, KIND_CONTACT, KIND_CRACK, VtkSeries, write_vtk
 
 TOL = 1e-12
 

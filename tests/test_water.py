@@ -10,11 +10,11 @@ from scipy.optimize import brentq
 from dem_core.components.water import exposed_faces
 from dem_core.geometry import GeometrySpec, rectangle
 from dem_core.geometry.regions import Region
-from dem_core.limit import search_failure
-from dem_core.materials import Material
-from dem_core.scene import Boundary, Scene, build_model
-from dem_core.stages import Gravity, Solve, run_stages
-from dem_core.water import GAMMA_WATER, WaterTable
+from dem_core.workflow.limit import search_failure
+from dem_core.contact.materials import Material
+from dem_core.workflow.scene import Boundary, Scene, build_model
+from dem_core.workflow.stages import Gravity, Solve, run_stages
+from dem_core.workflow.water import GAMMA_WATER, WaterTable
 
 G = 9.81
 

@@ -1,4 +1,4 @@
-"""Deformable zones (dem_core.zones, issue 24 item 2 part 1), against closed forms:
+"""Deformable zones (dem_core.deformable.zones, issue 24 item 2 part 1), against closed forms:
 
 - the explicit forces are -K u of the assembled stiffness, and a translation strains nothing;
 - patch test: on an irregular mesh of a pentagon, a linear displacement imposed on the boundary
@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 from scipy.sparse.linalg import spsolve
 
-from dem_core import zones as Z
+from dem_core.deformable import zones as Z
 
 E, NU, RHO = 1e9, 0.25, 2500.0
 PENTAGON = [(0.0, 0.0), (1.0, 0.0), (1.2, 0.8), (0.3, 1.1), (-0.2, 0.5)]

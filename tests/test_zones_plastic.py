@@ -1,4 +1,4 @@
-"""Mohr-Coulomb zones with a tension cut-off (``dem_core/zone_plasticity.py``, used by
+"""Mohr-Coulomb zones with a tension cut-off (``dem_core/deformable/zone_plasticity.py``, used by
 ``zones.add_zone_forces`` and so by the deformable blocks): closed-form checks.
 
 - Elastic zones (no strength, or c = +inf) are the code before plasticity to the bit (stored
@@ -24,10 +24,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from dem_core.materials import Material
+from dem_core.contact.materials import Material
 from dem_core.model import Model
-from dem_core.zone_plasticity import SHEAR, TENSION, mohr_coulomb, strength_table
-from dem_core.zones import (critical_dt, mesh_polygon, mesh_rectangle, run_zone_steps,
+from dem_core.deformable.zone_plasticity import SHEAR, TENSION, mohr_coulomb, strength_table
+from dem_core.deformable.zones import (critical_dt, mesh_polygon, mesh_rectangle, run_zone_steps,
                             zones_from_mesh)
 
 sys.path.insert(0, str(Path(__file__).parent))
@@ -184,7 +184,7 @@ def test_a_weak_deformable_column_yields_under_its_weight_a_strong_one_is_elasti
 
 def test_save_load_and_a_scene_keep_the_strength(tmp_path):
     from dem_core.geometry import GeometrySpec, rectangle
-    from dem_core.scene import Boundary, Scene, build_model
+    from dem_core.workflow.scene import Boundary, Scene, build_model
 
     m = column(size=0.25, zone_strength={"top": dict(cohesion=3e3, friction=30.0)},
                mass_scaling=True)

@@ -1,6 +1,6 @@
 """Thesis scenes as data: geometry, materials and boundary conditions, one module per case."""
 
-from dem_core.scene import Boundary
+from dem_core.workflow.scene import Boundary
 
 # The centrifuge models' boundaries (thesis fig 4.8, assumed for both cases): the base fixed
 # (the blocks touching y = 0), rollers on both sides (the blocks touching x = 0 and x = width

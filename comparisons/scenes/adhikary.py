@@ -33,18 +33,19 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from dem_core.geometry import GeometrySpec, JointSet, Region, Voronoi, slope_profile
-from dem_core.materials import Material
+from dem_core.contact.materials import Material
 from dem_core.model import Model
-from dem_core.scene import Scene
-from dem_core.scene import build_model as build_scene_model
-from dem_core.stages import RaiseGravity
+from dem_core.workflow.scene import Scene
+from dem_core.workflow.scene import build_model as build_scene_model
+from dem_core.workflow.stages import RaiseGravity
+from dem_core.units import STANDARD_GRAVITY
 
 from . import CENTRIFUGE_BOUNDARIES, CENTRIFUGE_GROUPS
 
 WIDTH, HEIGHT, SLOPE_HEIGHT, FACE_DIP, TOE_BENCH = 0.400, 0.395, 0.330, 61.0, 0.0
 BASE = HEIGHT - SLOPE_HEIGHT
 UNIT_WEIGHT = 23.8e3
-DENSITY = UNIT_WEIGHT / 9.81
+DENSITY = UNIT_WEIGHT / STANDARD_GRAVITY
 
 
 @dataclass(frozen=True)
@@ -139,7 +140,7 @@ def materials(p: AdhikaryParams) -> dict:
 
 
 def scene(p: AdhikaryParams, stages=()) -> Scene:
-    """The scene as data (``dem_core.scene``): geometry, materials, the centrifuge boundaries,
+    """The scene as data (``dem_core.workflow.scene``): geometry, materials, the centrifuge boundaries,
     points A and B, the quasi-static g-ramp solver (kinetic damping, mass scaling) and
     ``stages`` (e.g. one ``stages.RaiseGravity``)."""
     solver = {"mass_scaling": True, "damping": 0.0, "kinetic_damping": 100}
@@ -169,5 +170,5 @@ def base_run() -> Scene:
 
 def build_model(p: AdhikaryParams, blocks=None, **model_options) -> Model:
     """The DEM model of the scene with its boundary conditions and points A and B
-    (``dem_core.scene.build_model``; ``model_options`` override the scene's solver)."""
+    (``dem_core.workflow.scene.build_model``; ``model_options`` override the scene's solver)."""
     return build_scene_model(scene(p), blocks, **model_options)

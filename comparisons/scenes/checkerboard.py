@@ -45,7 +45,7 @@ all of them here:
   it; the quick variant's window is stated in the case);
 - boundaries: base fixed, both sides on rollers (hold x);
 - the water table lies ``water_depth`` = 65 m below the ground surface (text: saturated 50-80
-  m below the ground), pressure on the joints (``dem_core.water``);
+  m below the ground), pressure on the joints (``dem_core.workflow.water``);
 - points: "crest" (1 m behind and 1 m below the cut's crest), "face" (mid cut face, 1 m
   inside), "slope" (on the natural slope 100 m horizontally behind the crest, 1 m deep);
 - groups besides the boundaries': "weathered_skin" (the weathered rock within 30 m of the
@@ -85,12 +85,12 @@ import shapely
 from shapely.geometry import LineString, Polygon, box
 
 from continuum_ref import hoek_brown as hb
-from dem_core.elastic import kn_from_zone
+from dem_core.contact.elastic import kn_from_zone
 from dem_core.geometry import GeometrySpec, JointSet, Region, Voronoi, ZoneSizeField
-from dem_core.materials import Material
-from dem_core.scene import Boundary, Scene
-from dem_core.stages import ChangeMaterial, Excavate, Gravity, Solve
-from dem_core.water import WaterTable
+from dem_core.contact.materials import Material
+from dem_core.workflow.scene import Boundary, Scene
+from dem_core.workflow.stages import ChangeMaterial, Excavate, Gravity, Solve
+from dem_core.workflow.water import WaterTable
 
 WIDTH, HEIGHT = 4000.0, 3100.0
 TOE = (3700.0, 800.0)

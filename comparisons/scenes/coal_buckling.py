@@ -40,8 +40,8 @@ import numpy as np
 from shapely.geometry import Polygon
 
 from dem_core.geometry import GeometrySpec, Region, Voronoi, slope_profile
-from dem_core.materials import Material
-from dem_core.scene import Scene
+from dem_core.contact.materials import Material
+from dem_core.workflow.scene import Scene
 
 from . import CENTRIFUGE_BOUNDARIES, CENTRIFUGE_GROUPS
 

@@ -58,8 +58,8 @@ from shapely.geometry import Polygon
 
 from dem_core.geometry import (GeometrySpec, JointSet, Region, Voronoi, slope_profile,
                                zone_polygon_along_face)
-from dem_core.materials import Material
-from dem_core.scene import Scene
+from dem_core.contact.materials import Material
+from dem_core.workflow.scene import Scene
 
 from . import CENTRIFUGE_BOUNDARIES, CENTRIFUGE_GROUPS
 

@@ -38,7 +38,7 @@ dry (thesis), so they are not used. The intact quartzite is one material key, ``
 ("*:q*": the flaws of every bed part and the boundaries between parts of one bed), so one
 strength schedule lowers all of it; the boundaries between different beds are bedding joints.
 
-Stages (``stages``): the thesis's initialisation (thesis 5.2; ``dem_core.insitu.
+Stages (``stages``): the thesis's initialisation (thesis 5.2; ``dem_core.workflow.insitu.
 strong_then_real``: the quartzite made 1000 times stronger, gravity, the in-situ stress, solved,
 the real strength given back), then T of the quartzite lowered step by step until the slope
 fails (``strength_schedule``). In-situ stress: **assumption** (the thesis gives only the ratio
@@ -57,13 +57,14 @@ import numpy as np
 from shapely.geometry import Polygon
 
 from dem_core.geometry import GeometrySpec, JointSet, Region, Voronoi, slope_profile
-from dem_core.insitu import InSitu
-from dem_core.materials import Material
-from dem_core.scene import Boundary, Scene
-from dem_core.stages import ChangeMaterial, Gravity, Solve, StrengthSchedule
+from dem_core.workflow.insitu import InSitu
+from dem_core.contact.materials import Material
+from dem_core.workflow.scene import Boundary, Scene
+from dem_core.workflow.stages import ChangeMaterial, Gravity, Solve, StrengthSchedule
+from dem_core.units import STANDARD_GRAVITY
 
 UNIT_WEIGHT = 25e3                      # N/m3
-DENSITY = UNIT_WEIGHT / 9.81            # kg/m3
+DENSITY = UNIT_WEIGHT / STANDARD_GRAVITY            # kg/m3
 QUARTZITE = "*:q*"                      # material key of the intact quartzite (docstring)
 STRONG = 1e3                            # initialisation: quartzite T and c times this
 GROUPS = {"base": {"touching": "bottom"}, "left side": {"touching": "left"},
@@ -290,7 +291,7 @@ def stages(p: HighwoodParams, values, refine_to=None, max_steps=20_000, ratio=1e
     ``p.stress_ratio``, solved; real strength back; module docstring), then the quartzite's T
     lowered through ``values`` (Pa), bisected to ``refine_to``; a level fails when one of the
     points A, M, B moves more than ``failure_displacement`` (m) in it or keeps moving
-    (``dem_core.limit``, watching the points)."""
+    (``dem_core.workflow.limit``, watching the points)."""
     top = p.base + p.slope_height
     strong = {"tensile_strength": STRONG * p.flaw_tensile, "cohesion": STRONG * p.flaw_cohesion}
     real = {"tensile_strength": p.flaw_tensile, "cohesion": p.flaw_cohesion}

@@ -44,9 +44,9 @@ import numpy as np
 from comparisons import lab
 from dem_core.geometry import (GeometrySpec, JointLine, Region, Voronoi, build_block_system,
                                rectangle)
-from dem_core.materials import Material
-from dem_core.scene import Boundary, Scene
-from dem_core.scene import build_model as build_scene_model
+from dem_core.contact.materials import Material
+from dem_core.workflow.scene import Boundary, Scene
+from dem_core.workflow.scene import build_model as build_scene_model
 
 # Thesis Table 3.1 (plaster of Paris) and 3.5.
 THESIS_TENSILE = 1.1e6

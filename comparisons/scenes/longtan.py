@@ -70,17 +70,18 @@ from shapely.geometry import Polygon
 
 from dem_core.geometry import (GeometrySpec, JointSet, Region, Voronoi, slope_profile,
                                zone_polygon_along_face)
-from dem_core.materials import Material
+from dem_core.contact.materials import Material
 from dem_core.model import Model
-from dem_core.scene import Scene
-from dem_core.scene import build_model as build_scene_model
+from dem_core.workflow.scene import Scene
+from dem_core.workflow.scene import build_model as build_scene_model
+from dem_core.units import STANDARD_GRAVITY
 
 from . import CENTRIFUGE_BOUNDARIES, CENTRIFUGE_GROUPS
 
 WIDTH, SLOPE_HEIGHT, BASE, FACE_DIP = 0.752, 0.40, 0.10, 75.0
 HEIGHT = SLOPE_HEIGHT + BASE
 UNIT_WEIGHT = 23.5e3
-DENSITY = UNIT_WEIGHT / 9.81
+DENSITY = UNIT_WEIGHT / STANDARD_GRAVITY
 JOINT_DIP = 60.0                 # both sets, degrees
 INTACT_COHESION = 1.58e6         # 0.474 / (1 - 0.7) = 0.316 / (1 - 0.8), Pa
 
@@ -254,7 +255,7 @@ def regions_material_names(p: LongtanParams) -> list:
 
 
 def scene(p: LongtanParams, stages=()) -> Scene:
-    """The scene as data (``dem_core.scene``): geometry, materials, the centrifuge boundaries,
+    """The scene as data (``dem_core.workflow.scene``): geometry, materials, the centrifuge boundaries,
     points A and B, the quasi-static g-ramp solver (kinetic damping, mass scaling) and
     ``stages`` (e.g. one ``stages.RaiseGravity``)."""
     # (conventional mode: the materials themselves are glued, ``materials``)
@@ -268,5 +269,5 @@ def scene(p: LongtanParams, stages=()) -> Scene:
 
 def build_model(p: LongtanParams, blocks=None, **model_options) -> Model:
     """The DEM model of the scene with its boundary conditions and points A and B
-    (``dem_core.scene.build_model``; ``model_options`` override the scene's solver)."""
+    (``dem_core.workflow.scene.build_model``; ``model_options`` override the scene's solver)."""
     return build_scene_model(scene(p), blocks, **model_options)

@@ -77,11 +77,11 @@ import shapely
 from shapely.geometry import Polygon, box
 
 from dem_core.geometry import GeometrySpec, JointSet, Region, Voronoi
-from dem_core.insitu import InSitu
-from dem_core.materials import Material
-from dem_core.scene import Boundary, Scene
-from dem_core.stages import ChangeMaterial, Excavate, Gravity, Solve
-from dem_core.water import WaterTable
+from dem_core.workflow.insitu import InSitu
+from dem_core.contact.materials import Material
+from dem_core.workflow.scene import Boundary, Scene
+from dem_core.workflow.stages import ChangeMaterial, Excavate, Gravity, Solve
+from dem_core.workflow.water import WaterTable
 
 X_END, Y_BASE, Y_CREST = 400.0, 1275.0, 1625.0
 FACE_DIP, CREST_X, Y_TOE, Y_PREMINING = 35.0, 60.0, 1425.0, 1515.0
@@ -316,7 +316,7 @@ def mining_stage_indices(p: LornexParams) -> tuple:
 
 
 def scene(p: LornexParams, with_stages: bool = True) -> Scene:
-    """The scene as data (``dem_core.scene``): geometry, the high-strength materials (the
+    """The scene as data (``dem_core.workflow.scene``): geometry, the high-strength materials (the
     stages lower them to the real ones), boundaries, the prisms, the solver and the stages."""
     groups = {"base": {"touching": "bottom"}, "left side": {"touching": "left"},
               "right side": {"touching": "right"},

@@ -1,4 +1,5 @@
-"""Force components of the time step, each a small bundle of flat arrays and one kernel with
+"""Force components of the time step. Holds gravity, applied loads, the servo, water pressure,
+cables and liners (and ``support``: the Cable and Liner records a scene installs), each a small bundle of flat arrays and one kernel with
 the signature ``add_forces(bundle, state, props)`` (``state.BlockState``, ``state.BlockProps``)
 that adds into ``state.force`` (or, for the servo, sets prescribed velocities from it).
 
@@ -18,9 +19,12 @@ their kernel, with inertial masses that keep them inside that step (``support.se
 | servo-controlled groups (constant force) | ``Servo`` | ``servo_velocities`` |
 | deformable blocks' zones (floating frame) | ``deformable.Deformable`` | ``deformable.add_deformable`` |
 
-``deformable`` is imported as ``dem_core.components.deformable`` (not from this package: it
-imports ``dem_core.zones``, which imports ``components.nodes``). Its kernel also takes the
+``deformable`` is imported as ``dem_core.deformable.component`` (not from this package: it
+imports ``dem_core.deformable.zones``, which imports ``components.nodes``). Its kernel also takes the
 contacts, and the contact kernels read its bundle (the contact points move with the zones).
+
+May import: numpy, numba, ``dem_core.step`` (kinematics, nodes, state), ``dem_core.contact``.
+Never the driver, the workflow or the output.
 """
 from .cables import Cables, add_cables, no_cables
 from .liner import Liners, add_liners, no_liners

@@ -46,8 +46,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from ..kinematics import body_point
-from .nodes import move_nodes
+from ..step.kinematics import body_point
+from ..step.nodes import move_nodes
 
 __all__ = ["Cables", "add_cables", "no_cables", "GROUT_SLIP", "YIELD", "RUPTURE", "LINER_BOND",
            "log_event"]

@@ -46,9 +46,9 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from ..kinematics import body_point, rotate
+from ..step.kinematics import body_point, rotate
 from .cables import LINER_BOND, YIELD, log_event
-from .nodes import damped, move_nodes
+from ..step.nodes import damped, move_nodes
 
 __all__ = ["Liners", "add_liners", "no_liners"]
 

@@ -1,4 +1,4 @@
-"""Water: hydrostatic pressure of a water table (``dem_core.water.WaterTable``) on the
+"""Water: hydrostatic pressure of a water table (``dem_core.workflow.water.WaterTable``) on the
 contacts below it and on the exposed faces of blocks below it.
 
 A contact's springs carry the effective normal stress sn' (the law's ``sn``; strength, slip
@@ -24,8 +24,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from ..contacts import Contacts
-from ..kinematics import body_point, contact_normal
+from ..contact.contacts import Contacts
+from ..step.kinematics import body_point, contact_normal
 
 __all__ = ["Water", "add_water", "water_bundle", "no_water", "exposed_faces"]
 

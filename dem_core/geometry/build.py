@@ -22,7 +22,7 @@ import shapely
 from shapely.geometry import LineString
 from shapely.ops import substring
 
-from ..blocks import BlockSystem
+from .blocks import BlockSystem
 from . import tessellate
 from .joints import traces_in_region
 from .mesh import BlockMesh, polygons_to_csr

@@ -14,7 +14,7 @@ kind 1    contacts: one line per live contact, from the contact point x_a (the v
           edge itself, in two dashes that can differ in colour.
 kind 2    cracks: one vertex (point) per bond failure, where it formed (``Model.crack_log``)
 kind 3    support: one line per cable segment and per liner element, between its nodes
-          (``dem_core.support``)
+          (``dem_core.components.support``)
 ========  =====================================================================================
 
 Cell fields (every cell has every field: NaN for a float, -1 for an integer where it does not

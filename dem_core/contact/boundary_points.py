@@ -29,8 +29,8 @@ import math
 import numpy as np
 from numba import njit
 
-from ..contacts import ANCHOR_A, ANCHOR_B, ANCHOR_MID
-from ..kinematics import body_point, rotate, unrotate
+from .contacts import ANCHOR_A, ANCHOR_B, ANCHOR_MID
+from ..step.kinematics import body_point, rotate, unrotate
 
 __all__ = ["deformed_points", "rest_points", "contact_sides", "spread"]
 

@@ -46,13 +46,13 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from ..kinematics import contact_normal, unrotate
-from ..zone_mesh import mesh_polygons
-from ..zone_plasticity import elastic_table
-from ..zones import add_zone_forces, stiffness_matrix, zones_from_mesh
-from .boundary_points import contact_sides, spread
-from .deformable_bc import box_sides
-from .nodes import damped
+from ..step.kinematics import contact_normal, unrotate
+from .zone_mesh import mesh_polygons
+from .zone_plasticity import elastic_table
+from .zones import add_zone_forces, stiffness_matrix, zones_from_mesh
+from ..contact.boundary_points import contact_sides, spread
+from .held import box_sides
+from ..step.nodes import damped
 
 __all__ = ["Deformable", "no_deformable", "deformable_bundle", "add_deformable",
            "zone_kinetic_energy", "gridpoint_stiffness",
@@ -343,5 +343,5 @@ def strain_energy(d) -> float:
     """J/m: the zones' elastic energy (``zones.strain_energy``)."""
     if d.area.shape[0] == 0:
         return 0.0
-    from ..zones import strain_energy as zone_energy
+    from .zones import strain_energy as zone_energy
     return zone_energy(d)

@@ -36,11 +36,11 @@ from numba import njit, prange
 
 from .atomics import (compare_exchange, fetch_add, load_acquire, spin_pause, store_release,
                       yield_cpu)
-from .components.gravity import add_gravity_to
-from .forces import chunk_forces
-from .integration import DONE, NEED_SEARCH, UNSTABLE, advance_range, merge_status
+from ...components.gravity import add_gravity_to
+from ...contact.forces import chunk_forces
+from ..integration import DONE, NEED_SEARCH, UNSTABLE, advance_range, merge_status
 from .parallel import log_failures, shared_forces
-from .relaxation import end_step, next_kick
+from ..relaxation import end_step, next_kick
 
 __all__ = ["run_steps_region", "MIN_CONTACTS"]
 

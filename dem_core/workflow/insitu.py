@@ -91,9 +91,9 @@ class InSitu:
     @classmethod
     def geostatic(cls, density, k, g_level=1.0, surface=None) -> "InSitu":
         """The field of rock of ``density`` (kg/m^3) at ``g_level`` under its own weight:
-        sv = density g depth (g = ``model.STANDARD_GRAVITY``, as the DEM's and the
+        sv = density g depth (g = ``units.STANDARD_GRAVITY``, as the DEM's and the
         continuum's gravity), sh = k sv."""
-        from .model import STANDARD_GRAVITY
+        from ..units import STANDARD_GRAVITY
         return cls(gyy=float(density) * STANDARD_GRAVITY * float(g_level), k=k, surface=surface)
 
     def check(self, i=0, groups=(), materials=()):
@@ -150,25 +150,3 @@ class InSitu:
         model.set_contact_stress(sn, ts)
         return 0, "set", {"contacts": int(c.n), "max_sn": float(sn.max()),
                           "min_sn": float(sn.min())}
-
-
-def strong_then_real(materials: dict, names, factor=1e3, g_level=1.0, ratio=1e-5,
-                     max_steps=200_000) -> list:
-    """The thesis's initialisation as stages: the ``names`` materials made ``factor`` times
-    stronger (T and c), gravity at ``g_level`` solved to ``ratio``, then the real strengths
-    given back (a strength change moves no stress, so the model starts in equilibrium with its
-    real strengths and no failure the initialisation caused)."""
-    from .stages import ChangeMaterial, Gravity, Solve
-    if not factor >= 1:
-        raise ValueError(f"strong_then_real: factor {factor!r} must be >= 1")
-    strong, real = [], []
-    for n in names:
-        if n not in materials:
-            raise ValueError(f"strong_then_real: no material {n!r}; materials are "
-                             f"{sorted(materials)}")
-        m = materials[n]
-        strong.append(ChangeMaterial(n, {"tensile_strength": m.tensile_strength * factor,
-                                         "cohesion": m.cohesion * factor}))
-        real.append(ChangeMaterial(n, {"tensile_strength": m.tensile_strength,
-                                       "cohesion": m.cohesion}))
-    return strong + [Gravity(g_level), Solve(ratio=ratio, max_steps=max_steps)] + real

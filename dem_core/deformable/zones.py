@@ -42,7 +42,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from .components.nodes import damped
+from ..step.nodes import damped
 from .zone_mesh import check_polygon
 from .zone_plasticity import strength_table, yield_zone
 

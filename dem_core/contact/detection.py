@@ -31,8 +31,8 @@ import numpy as np
 from numba import njit
 
 from .contacts import ANCHOR_A, INTACT, UNBONDED, Contacts
-from .kinematics import body_point, contact_normal, unrotate
-from .components.boundary_points import deformed_points
+from ..step.kinematics import body_point, contact_normal, unrotate
+from .boundary_points import deformed_points
 from .rounding import is_rounded, no_rounding, rounded_contact
 
 __all__ = ["update_contacts", "compact", "block_containing", "world_vertices", "grid_pairs",

@@ -47,14 +47,14 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .components import add_cables, add_gravity, add_liners, add_loads, add_water, servo_velocities
-from .components.deformable import add_deformable
-from .forces import add_contact_forces
+from ..components import add_cables, add_gravity, add_liners, add_loads, add_water, servo_velocities
+from ..deformable.component import add_deformable
+from ..contact.forces import add_contact_forces
 from .integration import (DONE, MIN_THREADED_BLOCKS, NEED_SEARCH, UNSTABLE, advance,
                           advance_parallel)
 from .kinematics import body_point
-from .parallel import add_contact_forces_parallel
-from .region import run_steps_region
+from .threads.parallel import add_contact_forces_parallel
+from .threads.region import run_steps_region
 from .relaxation import end_step, free_kinetic_energy, next_kick, stop_free_motion
 
 __all__ = ["run_steps", "run_steps_threaded", "frequency_bound", "free_kinetic_energy",

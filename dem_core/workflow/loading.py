@@ -1,7 +1,7 @@
 """Loading paths as stages: a servo-held force and a displacement-controlled load.
 
 These are the lab's loading paths (platen compression and tension, the direct-shear box) as
-stage records any scene can use (``dem_core.stages``):
+stage records any scene can use (``dem_core.workflow.stages``):
 
 | kind | record | does |
 |---|---|---|

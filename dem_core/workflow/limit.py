@@ -42,8 +42,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .model import Model, ModelUnstable
-from .monitor import SETTLED, SolveResult, settle_window, settled, verdict
+from ..model import Model, ModelUnstable
+from ..output.monitor import SETTLED, SolveResult, settle_window, settled, verdict
 
 __all__ = ["LimitRecord", "search_failure", "check_levels", "save_resumable", "load_resumable",
            "remove_resumable"]

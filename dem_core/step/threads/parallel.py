@@ -37,8 +37,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from .forces import chunk_forces, edge_correction, log_crack
-from .state import Parallel, no_parallel
+from ...contact.forces import chunk_forces, edge_correction, log_crack
+from ..state import Parallel, no_parallel
 
 __all__ = ["Parallel", "contact_table", "add_contact_forces_parallel", "log_failures",
            "shared_forces", "no_parallel", "parallel_bundle", "chunk_owners"]

@@ -6,14 +6,14 @@ in another process can return it, and a kept result can be drawn later); ``draw_
 it with the displacement magnified; ``plot_model`` does both for a model at hand and adds the
 support. Crack segments are the shared edges whose bond broke (the first break of each edge
 gives its mode), drawn with the block on their A side, so a crack stays on the blocks however
-far they moved; the rupture polyline (``dem_core.rupture``) is drawn where it formed, in the
+far they moved; the rupture polyline (``dem_core.output.rupture``) is drawn where it formed, in the
 undeformed slope.
 """
 from __future__ import annotations
 
 import numpy as np
 
-from .detection import world_vertices
+from ..contact.detection import world_vertices
 
 __all__ = ["plot_model", "block_picture", "draw_picture", "magnification"]
 

@@ -13,13 +13,13 @@ import zipfile
 
 import numpy as np
 
-from .blocks import BlockSystem
-from .contacts import Contacts
+from ..geometry.blocks import BlockSystem
+from ..contact.contacts import Contacts
 from .monitor import History
-from .components.cables import Cables
-from .components.deformable import Deformable
-from .components.liner import Liners
-from .state import BlockProps, BlockState, CrackLog
+from ..components.cables import Cables
+from ..deformable.component import Deformable
+from ..components.liner import Liners
+from ..step.state import BlockProps, BlockState, CrackLog
 
 __all__ = ["save_parts", "load_parts"]
 

@@ -28,8 +28,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import shapely
 
-from .geometry import GeometrySpec
-from .materials import Material, material_for, material_table
+from ..geometry import GeometrySpec
+from ..contact.materials import Material, material_for, material_table
 from .stages import check_stages, stage_from_dict, stage_to_dict
 
 __all__ = ["Scene", "Boundary", "build_model", "conventional", "resolve_groups", "group_sides",
@@ -179,8 +179,8 @@ def build_model(scene: Scene, blocks=None, **options):
     """The DEM ``Model`` of a scene: blocks (built from the geometry unless given), materials,
     groups resolved into ``blocks.groups``, boundaries applied, monitoring points added.
     ``options`` override the scene's solver options."""
-    from .geometry import build_block_system
-    from .model import Model
+    from ..geometry import build_block_system
+    from ..model import Model
 
     blocks = build_block_system(scene.geometry) if blocks is None else blocks
     blocks.groups.update(resolve_groups(scene, blocks))

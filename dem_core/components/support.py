@@ -24,8 +24,8 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 
-from .components.cables import GROUT_SLIP, LINER_BOND, RUPTURE, YIELD, Cables, no_cables
-from .components.liner import no_liners
+from .cables import GROUT_SLIP, LINER_BOND, RUPTURE, YIELD, Cables, no_cables
+from .liner import no_liners
 
 __all__ = ["Cable", "Liner", "install", "support_stiffness", "set_node_masses",
            "support_log", "no_cables", "no_liners", "decay_length"]
@@ -216,7 +216,7 @@ def _join(bundle, new: dict):
 
 def _block_polygons(model):
     p, s = model.props, model.state
-    from .detection import world_vertices
+    from ..contact.detection import world_vertices
     wv = world_vertices(s.pos, s.rot, p.vertex_offsets, p.local_vertices)
     off = p.vertex_offsets
     act = np.flatnonzero(p.active > 0)
@@ -321,7 +321,7 @@ def _cable_arrays(model, cab: Cable, tree) -> dict:
 
 
 def _liner_arrays(model, ln: Liner) -> dict:
-    from .components.water import exposed_faces
+    from .water import exposed_faces
     blocks = model.blocks
     fb, f0, f1 = exposed_faces(blocks, model.props.active)
     mine = np.isin(fb, model.group(ln.group))

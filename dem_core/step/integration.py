@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from .components.nodes import damped
+from .nodes import damped
 from .kinematics import set_rotation
 
 __all__ = ["advance", "advance_range", "advance_parallel", "merge_status", "DONE",

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from numba import njit
 
-from .components.deformable import zone_kinetic_energy
+from ..deformable.component import zone_kinetic_energy
 
 __all__ = ["next_kick", "end_step", "kinetic_damping", "free_kinetic_energy", "stop_free_motion"]
 

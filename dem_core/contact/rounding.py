@@ -55,7 +55,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from .kinematics import body_point, rotate, unrotate
+from ..step.kinematics import body_point, rotate, unrotate
 
 __all__ = ["Rounding", "no_rounding", "rounding_bundle", "corner_centres", "largest_rounding",
            "is_rounded", "rounded_contact", "MAX_ROUNDING_FRACTION"]

@@ -28,12 +28,12 @@ import numpy as np
 from numba import njit
 from numba.core.errors import NumbaPerformanceWarning
 
-from .components.boundary_points import deformed_points, rest_points
+from .boundary_points import deformed_points, rest_points
 from .contacts import ANCHOR_A, ANCHOR_B
-from .kinematics import body_point, contact_normal, unrotate
+from ..step.kinematics import body_point, contact_normal, unrotate
 from .law import coulomb_law
 from .rounding import is_rounded, rounded_contact
-from .state import no_parallel
+from ..step.state import no_parallel
 
 __all__ = ["add_contact_forces", "chunk_forces", "contact_update", "log_crack",
            "edge_correction"]

@@ -34,9 +34,9 @@ from dataclasses import dataclass, field
 
 from .insitu import InSitu
 from .loading import Displace, Load, ServoLoad
-from .materials import Material
+from ..contact.materials import Material
 from .strength import FactorOfSafety, StrengthSchedule
-from .support import Cable, Liner
+from ..components.support import Cable, Liner
 from .water import WaterTable
 
 __all__ = ["Gravity", "Solve", "Cycle", "RaiseGravity", "Excavate", "ChangeMaterial",

@@ -34,7 +34,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from .kinematics import contact_normal
+from ..step.kinematics import contact_normal
 from .rounding import is_rounded, no_rounding, rounded_contact
 
 __all__ = ["Contacts", "INTACT", "TENSION", "SHEAR", "UNBONDED", "ANCHOR_A", "ANCHOR_B",
