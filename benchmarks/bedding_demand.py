@@ -18,7 +18,7 @@ Only the slope above the base is counted.
 
     python benchmarks/bedding_demand.py [--g 10] [--edge 0.006] [--h 0.006]
 
-Writes benchmarks/results/bedding_demand.json.
+Writes results/benchmarks/bedding_demand.json.
 """
 from __future__ import annotations
 
@@ -67,7 +67,7 @@ def dem_bedding_stress(edge: float, g: float):
     t0 = time.perf_counter()
     p = scene.AdhikaryParams(edge_length=edge, relax_iterations=10,
                              bedding_cohesion=OUT_OF_REACH, bedding_tensile=OUT_OF_REACH,
-                             flaw_cohesion=OUT_OF_REACH, flaw_tensile=OUT_OF_REACH)
+                             flaw_cohesion=OUT_OF_REACH, flaw_tensile_strength=OUT_OF_REACH)
     model = scene.build_model(p, mass_scaling=True, damping=0.8, kinetic_damping=50)
     model.set_gravity(g)
     res = model.solve(ratio=1e-5, max_steps=100_000)
@@ -139,9 +139,10 @@ def main(argv=None):
            "edge_m": a.edge, "h_m": a.h, "g_levels": list(G_LEVELS),
            "bedding_friction_deg": friction, "dem": dem, "continuum": fe}
     print(json.dumps(out, indent=1))
-    path = Path(__file__).parent / "results"
-    path.mkdir(exist_ok=True)
-    (path / "bedding_demand.json").write_text(json.dumps(out, indent=1))
+    import sys
+    sys.path.insert(0, str(Path(__file__).resolve().parent))      # also as benchmarks.<this>
+    import outdir
+    (outdir.results_dir() / "bedding_demand.json").write_text(json.dumps(out, indent=1))
 
 
 if __name__ == "__main__":

@@ -19,8 +19,9 @@ the bending strength of a bonded edge no longer depends on the block size, issue
 ``--deformable H`` makes every block deformable with zones of H m (UDEC-DM's blocks, issue 24
 item 2; the contacts then act on the zones' boundary segments).
 
-Writes benchmarks/results/centrifuge_resolution.json and .png (``--name`` renames them);
-``--summary NAME ...`` draws the rows of earlier result files in one figure (``--name``.png).
+Writes results/benchmarks/centrifuge_resolution.json and .png (``--name`` renames them;
+``--reference``: benchmarks/results/); ``--summary NAME ...`` draws the rows of earlier result
+files in one figure (``--name``.png).
 """
 from __future__ import annotations
 
@@ -34,6 +35,8 @@ import numpy as np
 from comparisons import adhikary, longtan
 from comparisons.results import metric_error
 from comparisons.sweep import run_sweep
+
+import outdir
 
 # per case: its module, the full variant's settings, steps per level by block edge (m; finer
 # blocks settle more slowly: more blocks along a column, more steps per period of its lowest
@@ -60,7 +63,7 @@ def member(edge: float, seed: int = 1, tensile_mpa: float | None = None,
     return dict(label=f"{case} edge {edge} seed {seed} T {t}", case=case,
                 solver=dict(edge_elements=edge_elements,
                             **({"deformable": {"*": zone}} if zone > 0 else {})),
-                params=dict(edge_length=edge, seed=seed, flaw_tensile=t * 1e6,
+                params=dict(edge_length=edge, seed=seed, flaw_tensile_strength=t * 1e6,
                             relax_iterations=full["relax_iterations"]),
                 g_levels=full["g_levels"],
                 max_steps=steps.get(edge, steps[min(steps)]),   # (else the finest's)
@@ -75,7 +78,7 @@ def run_member(m: dict) -> dict:
 def row(m: dict, r: dict) -> dict:
     return {"case": m["case"], "edge_m": m["params"]["edge_length"],
             "seed": m["params"]["seed"],
-            "flaw_tensile_mpa": m["params"]["flaw_tensile"] / 1e6,
+            "flaw_tensile_mpa": m["params"]["flaw_tensile_strength"] / 1e6,
             "edge_elements": m["solver"]["edge_elements"],
             "zone_m": m["solver"].get("deformable", {}).get("*", 0.0),
             "blocks": r["blocks"],
@@ -109,12 +112,15 @@ def main(argv=None):
     ap.add_argument("--name", default="centrifuge_resolution",
                     help="file name of the results (without .json / .png)")
     ap.add_argument("--summary", nargs="+", metavar="NAME",
-                    help="run nothing: draw the rows of these result files (names as --name) "
-                         "in one figure, <--name>.png")
+                    help="run nothing: draw the rows of these result files (names as --name; "
+                         "results/benchmarks/ first, then benchmarks/results/) in one figure, "
+                         "<--name>.png")
+    outdir.add_reference_flag(ap)
     a = ap.parse_args(argv)
-    out = Path(__file__).parent / "results"
+    out = outdir.results_dir(a.reference)
     if a.summary:
-        rows = [r for n in a.summary for r in json.loads((out / f"{n}.json").read_text())["rows"]]
+        rows = [r for n in a.summary
+                for r in json.loads(outdir.find(f"{n}.json").read_text())["rows"]]
         summary_figure(rows, out / f"{a.name}.png")
         return
     members = [member(edge, seed, t, a.edge_elements, a.case, a.deformable)
@@ -122,7 +128,6 @@ def main(argv=None):
     rows = [row(m, r) for m, r in zip(members, run_sweep(run_member, members, a.workers))]
     for r in rows:
         print(json.dumps(r), flush=True)
-    out.mkdir(exist_ok=True)
     (out / f"{a.name}.json").write_text(json.dumps(
         {"machine": f"{platform.machine()} {platform.platform()}", "workers": a.workers,
          "rows": rows}, indent=2))

@@ -12,7 +12,8 @@ Each block size runs with the edges as linear elements (``Model(edge_elements=Tr
 independent end springs (the default), and with ``--zones`` also with deformable blocks (zones
 of each size; UDEC-DM's blocks: each face split into ceil(L / h) segments, one contact pair
 per segment, so a face of one segment is two end springs again). Prints one JSON line per run (edge_m, edge_elements,
-blocks, failure_g, last_stable_g, beam_theory_g, ratio, seconds) and writes benchmarks/results/column_bending.json and .png.
+blocks, failure_g, last_stable_g, beam_theory_g, ratio, seconds) and writes
+results/benchmarks/column_bending.json and .png (``--name`` renames them).
 """
 from __future__ import annotations
 
@@ -20,7 +21,6 @@ import argparse
 import json
 import math
 import time
-from pathlib import Path
 
 import numpy as np
 
@@ -28,6 +28,8 @@ from dem_core.geometry import GeometrySpec, Region, Voronoi, build_block_system,
 from dem_core.workflow.gravity_ramp import raise_gravity
 from dem_core.contact.materials import Material
 from dem_core.model import Model
+
+import outdir
 
 LENGTH, WIDTH, TILT, DENSITY, TENSILE = 0.3, 0.010, 9.0, 2426.0, 1.1e6
 
@@ -86,8 +88,7 @@ def main(argv=None):
         for zone in args.zones:
             rows.append(run(edge, False, zone))
             print(json.dumps(rows[-1]), flush=True)
-    out = Path(__file__).parent / "results"
-    out.mkdir(exist_ok=True)
+    out = outdir.results_dir()
     (out / f"{args.name}.json").write_text(json.dumps({"rows": rows}, indent=2))
     picture(rows, out / f"{args.name}.png")
 

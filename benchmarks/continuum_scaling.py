@@ -1,14 +1,15 @@
 """Benchmark of continuum_ref: solve time and Newton iterations against dofs, and the footing
-error against run time under refinement. Writes JSON (machine named) to benchmarks/results/.
+error against run time under refinement. Writes JSON (machine named) to results/benchmarks/
+(``--reference``: benchmarks/results/).
 
 Usage: .venv/bin/python benchmarks/continuum_scaling.py [--quick]
 """
+import argparse
 import json
 import math
 import platform
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
@@ -16,7 +17,9 @@ from continuum_ref.materials import Elastic, MohrCoulomb
 from continuum_ref.mesh import PolygonRegion, build_mesh, refine_near
 from continuum_ref.model import ContinuumModel
 
-FACE, HEIGHT = 61.0, 0.33          # centrifuge slope of CASES.md case 2 (model scale, m)
+import outdir
+
+FACE, HEIGHT = 61.0, 0.33          # centrifuge slope of thesis section 4.2 (model scale, m)
 
 
 def slope_mesh(h):
@@ -66,7 +69,7 @@ def footing_case(h_min, h_max=0.3):
             "newton_iterations": iters, "converged": r.converged}
 
 
-def main(quick):
+def main(quick, reference=False):
     hs = [0.04, 0.02, 0.01] if quick else [0.04, 0.02, 0.01, 0.006]
     elastic = Elastic(E=2.6e9, nu=0.16)
     plastic = MohrCoulomb(E=2.6e9, nu=0.16, cohesion=50e3, friction=30.0, dilation=0.0,
@@ -77,11 +80,14 @@ def main(quick):
            "mohr_coulomb_slope_60g": [slope_case(h, plastic, 60.0) for h in hs],
            "footing": [footing_case(hm) for hm in ([0.1, 0.05, 0.03] if quick
                                                    else [0.1, 0.05, 0.03, 0.015, 0.008])]}
-    path = Path(__file__).parent / "results" / "continuum_scaling.json"
-    path.parent.mkdir(exist_ok=True)
+    path = outdir.results_dir(reference) / "continuum_scaling.json"
     path.write_text(json.dumps(out, indent=2))
     print(json.dumps(out, indent=2))
 
 
 if __name__ == "__main__":
-    main("--quick" in sys.argv)
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="coarser meshes only")
+    outdir.add_reference_flag(ap)
+    a = ap.parse_args()
+    main(a.quick, a.reference)

@@ -8,7 +8,8 @@ For the bonded Voronoi specimen of ``throughput.py`` (1e3 and 1e4 blocks; ``--fu
 ("eigen", ``critical_step.largest_omega2``), their ratio (the gain in steps for the same
 safety), the seconds of one eigenvalue solve (best of three) and of one step (best of three
 runs of 200 steps), and the solve's cost in steps. A run pays one solve per contact search that
-changes the contacts. Writes benchmarks/results/critical_step_cost.json and .png.
+changes the contacts. Writes results/benchmarks/critical_step_cost.json
+and .png (``--reference``: benchmarks/results/).
 """
 from __future__ import annotations
 
@@ -79,7 +80,8 @@ def main():
     for n in sizes:
         rows.append(measure(n))
         print(rows[-1], flush=True)
-    path = scenes.write_json("critical_step_cost", {"machine": scenes.machine(), "rows": rows})
+    path = scenes.write_json("critical_step_cost", {"machine": scenes.machine(), "rows": rows},
+                             a.reference)
     figure(rows, path.with_suffix(".png"))
 
 

@@ -12,7 +12,7 @@ zones' own bound and the boundary gridpoints' share of the contact springs make 
 and the cost of a simulated second relative to the rigid model; the last variant has mass
 scaling (quasi-static runs: gridpoints stiffer than the blocks' median get heavier, so the
 step is the rigid model's). One thread.
-Writes results/deformable_cost.json.
+Writes results/benchmarks/deformable_cost.json (``--reference``: benchmarks/results/).
 """
 from __future__ import annotations
 
@@ -20,8 +20,8 @@ import argparse
 import json
 import platform
 import time
-from pathlib import Path
 
+import outdir
 import throughput
 
 
@@ -38,7 +38,7 @@ def _model(bs, size, mass_scaling=False):
     return m
 
 
-def main(blocks=200, steps=2000, reps=3):
+def main(blocks=200, steps=2000, reps=3, reference=False):
     bs = throughput.specimen(blocks)
     variants = {"rigid": None, "zones_5mm": 0.005, "zones_2.5mm": 0.0025,
                 "zones_5mm_mass_scaled": 0.005}
@@ -66,7 +66,7 @@ def main(blocks=200, steps=2000, reps=3):
            "reps": reps, "threads": 1,
            "machine": f"{platform.node()} {platform.machine()} {platform.platform()}",
            "date": time.strftime("%Y-%m-%d"), "variants": rows}
-    path = Path(__file__).parent / "results" / "deformable_cost.json"
+    path = outdir.results_dir(reference) / "deformable_cost.json"
     path.write_text(json.dumps(out, indent=1) + "\n")
     print(json.dumps(out, indent=1))
     return out
@@ -77,5 +77,6 @@ if __name__ == "__main__":
     ap.add_argument("--blocks", type=int, default=200)
     ap.add_argument("--steps", type=int, default=2000)
     ap.add_argument("--reps", type=int, default=3)
+    outdir.add_reference_flag(ap)
     a = ap.parse_args()
-    main(a.blocks, a.steps, a.reps)
+    main(a.blocks, a.steps, a.reps, a.reference)

@@ -8,7 +8,7 @@ equilibrium ratio, the loading rate / number of load steps). Every run gives a p
 (|relative error|, seconds). The best front is the set of runs no other run beats in both error
 and time (Pareto front); for the default setting the JSON records whether it is on the front
 and, if not, how much cheaper a front run of no larger error is (``default_vs_front``).
-Writes results/error_vs_time.json and results/error_vs_time.png.
+Writes results/benchmarks/error_vs_time.json and .png (``--reference``: benchmarks/results/).
 """
 from __future__ import annotations
 
@@ -174,8 +174,8 @@ def main(argv=None):
            "wall_seconds": time.perf_counter() - t0, "checks": results,
            "cantilever_reference_E": {str(k): {"E_2d": v[0], "seconds": v[1]}
                                       for k, v in scenes._E_CACHE.items()}}
-    path = scenes.write_json("error_vs_time", out)
-    plot(results, scenes.RESULTS / "error_vs_time.png")
+    path = scenes.write_json("error_vs_time", out, a.reference)
+    plot(results, scenes.results_dir(a.reference) / "error_vs_time.png")
     print(f"wrote {path} ({out['wall_seconds']:.0f} s)")
 
 

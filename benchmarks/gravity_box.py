@@ -15,8 +15,8 @@ value (c 2.5 MPa, friction 35 kept) and the box solved again: how many bonds bre
 ``--zones``: the same boxes with deformable blocks (``Model(deformable=...)``, zones of that
 size; 6 m blocks get zones of a quarter of their edge).
 
-Prints one JSON line per run and writes benchmarks/results/gravity_box.json and .png (the
-distribution of sn / sv per setting). docs/cases/checkerboard.md ("Why 1.3 m flaws fail at
+Prints one JSON line per run and writes results/benchmarks/gravity_box.json and .png (the
+distribution of sn / sv per setting; ``--reference``: benchmarks/results/). docs/cases/checkerboard.md ("Why 1.3 m flaws fail at
 T = c") quotes it: the thesis's back-calculated T of 25-650 kPa in a 60 m weathered zone is of
 the order of the tension that rigid-block contacts carry under gravity alone.
 """
@@ -26,7 +26,6 @@ import argparse
 import json
 import time
 import warnings
-from pathlib import Path
 
 import numpy as np
 
@@ -37,6 +36,8 @@ from dem_core.contact.materials import Material
 from dem_core.units import STANDARD_GRAVITY
 from dem_core.workflow.scene import Boundary, Scene, build_model
 from dem_core.workflow.stages import ChangeMaterial, Gravity, Solve, run_stages
+
+import outdir
 
 SIDE, RHO, E, NU, COHESION = 60.0, 2700.0, 3.6e9, 0.27, 2.5e6
 GROUPS = {"base": {"touching": "bottom"}, "left side": {"touching": "left"},
@@ -128,6 +129,7 @@ def main():
     ap.add_argument("--tensile", type=float, nargs="+", default=[25e3, 1e5, 3e5])
     ap.add_argument("--zones", type=float, nargs="*", default=[1.3, 0.65],
                     help="zone sizes (m) of the deformable runs of the finest box")
+    outdir.add_reference_flag(ap)
     a = ap.parse_args()
     warnings.simplefilter("ignore")
     rows = []
@@ -139,8 +141,7 @@ def main():
     for edge, ratio, ee, zone in settings:
         rows.append(run(edge, ratio, ee, a.tensile, zone))
         print(json.dumps({k: v for k, v in rows[-1].items() if k != "sn_over_sv"}), flush=True)
-    out = Path(__file__).parent / "results"
-    out.mkdir(exist_ok=True)
+    out = outdir.results_dir(a.reference)
     (out / "gravity_box.json").write_text(json.dumps(
         {"rows": [{k: v for k, v in r.items() if k != "sn_over_sv"} for r in rows]}, indent=2))
     figure(rows, out / "gravity_box.png")

@@ -8,7 +8,7 @@ thesis's 7 mm, several time-step safety factors; errors against the finest edge.
     python benchmarks/lab_resolution.py [--quick | --full]
 
 quick: edges 5, 7, 11 mm, safety 0.3 and 0.9 at 7 mm; full: edges 4..14 mm. Writes
-benchmarks/results/lab_resolution.json and .png.
+results/benchmarks/lab_resolution.json and .png (``--reference``: benchmarks/results/).
 """
 from __future__ import annotations
 
@@ -32,8 +32,8 @@ def main(argv=None):
     study = lajtai.accuracy_study(cfg, lajtai_scene.THESIS_COHESION, print)
     out = {"machine": scenes.machine(), "mode": mode, "default": {"edge_m": 0.007, "safety": 0.5},
            **study, "wall_seconds": time.perf_counter() - t0}
-    path = scenes.write_json("lab_resolution", out)
-    plot(out, scenes.RESULTS / "lab_resolution.png")
+    path = scenes.write_json("lab_resolution", out, a.reference)
+    plot(out, scenes.results_dir(a.reference) / "lab_resolution.png")
     print(f"wrote {path}")
 
 

@@ -17,7 +17,7 @@ so the failure g-level depends only on the flaws near the root. Two scenes: Voro
 everywhere, and Voronoi flaws only in a hinge zone (the first ``zone`` m from the support; the
 rest of the beam one rigid block, glued to the zone). Compared: failure g, blocks, contacts and
 run time. Closed form for reference: sigma_max = 6 M / H^2 = T at n = T H / (3 rho g L^2).
-Writes results/leave_out.json and results/leave_out.png.
+Writes results/benchmarks/leave_out.json and .png (``--reference``: benchmarks/results/).
 """
 from __future__ import annotations
 
@@ -74,7 +74,7 @@ def variants(bs):
 
     def no_search_check():
         m = _model(bs)
-        m.search_enabled = False
+        m.enable_search(False)
         return m
 
     def no_gravity():
@@ -150,9 +150,9 @@ def cantilever_ramp(zone, edge, g_levels, seed=3):
     t0 = time.perf_counter()
     bs = build_block_system(GeometrySpec(regions=regions, voronoi={
         "rock": Voronoi(edge_length=edge, seed=seed, relax_iterations=100)}))
-    flaw = Material(kn=scenes._sp.KN, ks=scenes._sp.KN, tensile_strength=scenes._sp.T,
-                    cohesion=3 * scenes._sp.T, friction=35)
-    glue = Material(kn=scenes._sp.KN, ks=scenes._sp.KN, breakable=False)
+    flaw = Material(kn=scenes.KN, ks=scenes.KN, tensile_strength=scenes.T,
+                    cohesion=3 * scenes.T, friction=35)
+    glue = Material(kn=scenes.KN, ks=scenes.KN, breakable=False)
     m = Model(bs, {"flaw:*": flaw, "boundary:*": glue}, density=2500, damping=0.8)
     m.fix("left")
     t_build = time.perf_counter() - t0
@@ -205,7 +205,7 @@ def main(argv=None):
     out["unused"] = unused_costs(10_000 if a.full else 3000, 300 if a.full else 200,
                                  a.reps or (7 if a.full else 5), print)
     print("flaws only in the hinge zone:")
-    L, H, T, rho = 0.3, 0.03, scenes._sp.T, 2500.0
+    L, H, T, rho = 0.3, 0.03, scenes.T, 2500.0
     g_levels = [2, 3, 4, 5, 6, 7, 8, 10, 12] if not a.full else list(np.arange(2, 12.01, 0.5))
     edge = 0.005
     runs = []
@@ -218,8 +218,8 @@ def main(argv=None):
                    "closed_form_g": T * H / (3 * rho * scenes.G * L ** 2),
                    "time_saving": runs[0]["seconds"] / runs[1]["seconds"]}
     out["wall_seconds"] = time.perf_counter() - t0
-    path = scenes.write_json("leave_out", out)
-    plot(out, scenes.RESULTS / "leave_out.png")
+    path = scenes.write_json("leave_out", out, a.reference)
+    plot(out, scenes.results_dir(a.reference) / "leave_out.png")
     print(f"wrote {path} ({out['wall_seconds']:.0f} s)")
 
 

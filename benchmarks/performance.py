@@ -20,7 +20,8 @@ time per Newton iteration against dofs.
   (what memory gives such a loop on this machine).
 - Continuum: elastic and Mohr-Coulomb centrifuge slope (``continuum_scaling.slope_case``),
   seconds per Newton iteration against dofs.
-Writes results/performance.json and results/performance.png.
+Writes results/benchmarks/performance.json and .png, ``--streams`` stream_footprint.json and
+.png there (``--reference``: benchmarks/results/).
 """
 from __future__ import annotations
 
@@ -124,10 +125,11 @@ def stream_ns(n_contacts, rounds=5) -> float:
 MODELS = {623_012: 108_334, 6_247_144: 1_083_334}
 
 
-def stream_footprints(rounds=7, path=None) -> dict:
+def stream_footprints(rounds=7, path=None, reference=False) -> dict:
     """``_stream``'s ns per contact against the contact arrays' size (MB), the sizes in
     alternating order each round; the 1e5- and 1e6-block models' sizes marked. Writes
-    results/stream_footprint.json and .png (``path`` without suffix)."""
+    stream_footprint.json and .png (``path`` without suffix; default: in
+    ``scenes.results_dir(reference)``)."""
     import json
     from pathlib import Path
     contacts = [62_301, 311_506, 623_012, 934_518, 1_246_024, 1_869_036, 2_492_048, 6_247_144]
@@ -143,7 +145,7 @@ def stream_footprints(rounds=7, path=None) -> dict:
                      "contact_arrays_MB": round(mb[n], 1),
                      "best_ns": round(min(times[n]), 2),
                      "median_ns": round(float(np.median(times[n])), 2)} for n in contacts]}
-    path = Path(path or Path(__file__).parent / "results" / "stream_footprint")
+    path = Path(path or scenes.results_dir(reference) / "stream_footprint")
     path.with_suffix(".json").write_text(json.dumps(out, indent=2))
     _stream_figure(out["rows"], path.with_suffix(".png"))
     print(json.dumps(out["rows"]), flush=True)
@@ -199,11 +201,11 @@ def profile(n_blocks, steps=200):
     timed("zero force array", lambda: s.force.fill(0.0))
     timed("contact forces + law (add_contact_forces)", lambda: forces.add_contact_forces(
         c, strength, s, m.cracks, m.time, m.corners, False, m.zone_state))
-    grav = m._components()[0]
+    grav = m.parts().gravity
     timed("gravity (add_gravity)", lambda: add_gravity(grav, s, p))
     # advance moves the blocks: keep the force small so the specimen stays put
     s.force.fill(0.0)
-    integ = m._integrator()
+    integ = m.integrator()
     timed("damping + integration + rotation + movement check (advance)", lambda: step.advance(
         s, p, integ, m.dt))
     m2 = leave_model(bs)
@@ -327,10 +329,10 @@ def main(argv=None):
                     help="with --limit: alternating rounds of the step and the stream loop")
     ap.add_argument("--streams", action="store_true",
                     help="only the stream loop against the contact arrays' size "
-                         "(results/stream_footprint.json, .png)")
+                         "(stream_footprint.json, .png)")
     a = ap.parse_args(argv)
     if a.streams:
-        return stream_footprints()
+        return stream_footprints(reference=a.reference)
     if a.limit:
         return machine_limit(a.limit, a.rounds)
     out = {"machine": scenes.machine(), "mode": "full" if a.full else "quick",
@@ -370,8 +372,8 @@ def main(argv=None):
                                for k, v in out["machine_limit"].items()})
     out["continuum"] = continuum(a.full, print)
     out["wall_seconds"] = time.perf_counter() - t0
-    path = scenes.write_json("performance", out)
-    plot(out, scenes.RESULTS / "performance.png")
+    path = scenes.write_json("performance", out, a.reference)
+    plot(out, scenes.results_dir(a.reference) / "performance.png")
     print(f"wrote {path} ({out['wall_seconds']:.0f} s)")
 
 

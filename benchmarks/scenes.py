@@ -1,10 +1,12 @@
-"""Shared scene builders and helpers for the benchmarks (and tests/test_regression_guard.py).
+"""Shared scene builders and helpers for the benchmarks (and the tests that import them).
 
-The closed-form scenes are the ones of the test suite: they are imported from the test modules
-(``tests/test_mech_*.py``, ``tests/test_continuum_model.py``) so a benchmark and its test always
-run the same scene. This module adds what the tests do not expose as functions: one closed-form
-*measurement* per check (returning the measured value, its closed form and the run time), plus
-machine information for the JSON files.
+The closed-form scenes of the test suite live here (``block_on_plane``, ``tilt``, ``bonded_pair``
+of tests/test_mech_closed_forms.py; ``voronoi_bar``, ``materials``, ``pull``, ``measured_modulus``
+of tests/test_mech_specimens.py; ``specimen`` of tests/test_mech_stability.py): the tests import
+them from this module (a benchmark never imports a test, docs/architecture.md), so a benchmark
+and its test always run the same scene. This module adds what the tests do not need: one
+closed-form *measurement* per check (returning the measured value, its closed form and the run
+time), plus machine information and the result folder (``outdir``) for the JSON files.
 """
 from __future__ import annotations
 
@@ -19,29 +21,122 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-RESULTS = Path(__file__).resolve().parent / "results"
-if str(ROOT / "tests") not in sys.path:
-    sys.path.insert(0, str(ROOT / "tests"))
+from dem_core.contact.materials import Material
+from dem_core.geometry import GeometrySpec, Voronoi, build_block_system, rectangle
+from dem_core.geometry.simple_blocks import from_polygons
+from dem_core.model import Model
 
-import test_mech_closed_forms as _cf  # noqa: E402
-import test_mech_specimens as _sp  # noqa: E402
-import test_mech_stability as _st  # noqa: E402
+import outdir
+
+ROOT = Path(__file__).resolve().parents[1]
+results_dir = outdir.results_dir     # results/benchmarks/, or benchmarks/results/ (reference)
 
 G = 9.81
-block_on_plane, tilt, bonded_pair = _cf.block_on_plane, _cf.tilt, _cf.bonded_pair
-voronoi_bar, pull, spec_materials = _sp.voronoi_bar, _sp.pull, _sp.materials
-measured_modulus = _sp.measured_modulus
-stability_specimen = _st.specimen
+
+
+# ------------------------------------------------------------------ the closed-form scenes
+# (moved unchanged from the test modules named above)
+def block_on_plane(friction, width=1.0, height=0.5, **kw):
+    """A width x height block on a long fixed base; tilting gravity by theta = inclined plane."""
+    bs = from_polygons([[(0, 0), (20, 0), (20, 1), (0, 1)],
+                        [(2, 1), (2 + width, 1), (2 + width, 1 + height), (2, 1 + height)]],
+                       edge_material="joint:base", groups={"base": [0], "block": [1]})
+    m = Model(bs, {"joint:*": Material(kn=1e9, ks=1e9, friction=friction)}, density=2000,
+              damping=0.0, **kw)
+    m.fix("base")
+    return m
+
+
+def tilt(model, theta_deg):
+    th = math.radians(theta_deg)
+    model.set_gravity(1.0, direction=(math.sin(th), -math.cos(th)))
+
+
+def bonded_pair(kn=1e9, ks=1e9, safety=0.5):
+    bs = from_polygons([[(0, 0), (1, 0), (1, 1), (0, 1)], [(0, 1), (1, 1), (1, 2), (0, 2)]],
+                       edge_material="flaw:rock", groups={"base": [0], "top": [1]})
+    return Model(bs, {"flaw:*": Material(kn=kn, ks=ks, breakable=False)}, density=2000,
+                 damping=0.0, safety=safety)
+
+
+T = 1.0e6
+KN = 1.0e12
+
+
+def voronoi_bar(length, height, edge=0.005, seed=1, relax=100):
+    """A Voronoi bar [0, length] x [0, height] between two rigid platens (single blocks)."""
+    p = 2 * edge
+    spec = GeometrySpec(regions=[rectangle("rock", 0, 0, length, height),
+                                 rectangle("left", -p, 0, 0, height),
+                                 rectangle("right", length, 0, length + p, height)],
+                        voronoi={"rock": Voronoi(edge_length=edge, seed=seed,
+                                                 relax_iterations=relax)})
+    return build_block_system(spec)
+
+
+def materials(ks_ratio):
+    """Flaws with T, c = 3T, friction 35; the platen interfaces glued with the same springs."""
+    return {"flaw:*": Material(kn=KN, ks=ks_ratio * KN, tensile_strength=T, cohesion=3 * T,
+                               friction=35),
+            "boundary:*": Material(kn=KN, ks=ks_ratio * KN, breakable=False)}
+
+
+def pull(bs, length, height, ks_ratio, velocity, max_chunks=400, stop_at=None):
+    """Left platen fixed, right platen at constant x velocity; returns (model, strain, stress).
+
+    The strain is the platen displacement over the specimen length.
+    """
+    m = Model(bs, materials(ks_ratio), density=2500, damping=0.8)
+    left, right = bs.groups["left"], bs.groups["right"]
+    m.fix(left)
+    m.set_velocity(right, vx=velocity, vy=0.0)
+    strain, stress = [], []
+    for _ in range(max_chunks):
+        m.cycle(100)
+        # the force on a prescribed block is the contact force on it: minus the applied load
+        stress.append(-m.state.force[right, 0].sum() / height)
+        strain.append((m.state.pos[right[0], 0] - m.state.pos0[right[0], 0]) / length)
+        s = np.array(stress)
+        if m.cracks.count[0] and abs(s[-1]) < 0.5 * np.abs(s).max():
+            break
+        if stop_at is not None and abs(s[-1]) > stop_at:
+            break
+    return m, np.array(strain), np.array(stress)
+
+
+
+def measured_modulus(bs, length, height, ks_ratio):
+    """E_2d from the linear part of a compression test (before any damage), Pa."""
+    m, strain, stress = pull(bs, length, height, ks_ratio, -2e-3, stop_at=1.5 * T)
+    assert m.cracks.count[0] == 0
+    s, e = -stress, -strain
+    lo, mid = np.searchsorted(s, 0.2 * s[-1]), np.searchsorted(s, 0.6 * s[-1])
+    E1 = np.polyfit(e[lo:mid], s[lo:mid], 1)[0]
+    E2 = np.polyfit(e[mid:], s[mid:], 1)[0]
+    return E1, E2
+
+
+def specimen(min_fraction=0.15, seed=2, relax=20):
+    spec = GeometrySpec(regions=[rectangle("rock", 0, 0, 0.1, 0.05),
+                                 rectangle("base", -0.02, -0.02, 0.12, 0.0)],
+                        voronoi={"rock": Voronoi(edge_length=0.01, seed=seed, relax_iterations=relax,
+                                                 min_edge_fraction=min_fraction,
+                                                 min_area_fraction=min_fraction)})
+    return build_block_system(spec)
+
+
+spec_materials, stability_specimen = materials, specimen       # the benchmarks' older names
 
 
 def quick_or_full_parser(description: str) -> argparse.ArgumentParser:
     """The benchmarks' command line: ``--quick`` (the default) or ``--full``; add more options to
-    the returned parser. ``args.full`` tells which."""
+    the returned parser. ``args.full`` tells which; ``args.reference`` where to write
+    (``outdir``)."""
     ap = argparse.ArgumentParser(description=description)
     g = ap.add_mutually_exclusive_group()
     g.add_argument("--quick", action="store_true", help="(default)")
     g.add_argument("--full", action="store_true")
+    outdir.add_reference_flag(ap)
     return ap
 
 
@@ -65,9 +160,9 @@ def machine() -> dict:
             "load_average_at_start": [round(x, 2) for x in load]}   # (other jobs running?)
 
 
-def write_json(name: str, payload: dict) -> Path:
-    RESULTS.mkdir(exist_ok=True)
-    path = RESULTS / f"{name}.json"
+def write_json(name: str, payload: dict, reference: bool = False) -> Path:
+    """``name``.json in ``results_dir(reference)``."""
+    path = results_dir(reference) / f"{name}.json"
     path.write_text(json.dumps(payload, indent=1, default=float))
     return path
 
@@ -81,11 +176,11 @@ def sliding_block(theta=30.0, friction=20.0, safety=0.5, damping=0.0, steps=6000
     """
     t0 = time.perf_counter()
     m = block_on_plane(friction, safety=safety)
-    m.damping = damping
+    m.set_options(damping=damping)
     if kn is not None:
         m.contacts.kn[:] = kn
         m.contacts.ks[:] = kn
-        m._update_timestep()
+        m.update_timestep()
     tilt(m, theta)
     m.cycle(1000)
     t1, v1 = m.time, m.state.vel[1, 0]
@@ -153,7 +248,6 @@ def brick_bar_tension(cell=0.01, velocity=2e-3, ks_ratio=1.0, safety=0.5, dampin
         if m.cracks.count[0] and abs(s[-1]) < 0.5 * np.abs(s).max():
             break
     peak = float(np.max(stress))
-    T = _sp.T
     return {"measured": peak, "exact": T, "rel_error": (peak - T) / T,
             "seconds": time.perf_counter() - t0, "steps": int(m.step), "dt": m.dt,
             "blocks": bs.n_blocks, "length": length}

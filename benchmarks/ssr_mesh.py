@@ -9,7 +9,7 @@ SSR) and the error against Bishop's simplified method on the same section. A wat
 (mid-height, effective stress) is added per flow rule at the coarsest h.
 
 Usage: .venv/bin/python benchmarks/ssr_mesh.py [--quick] [--h 1 0.5 0.25 0.125]
-Writes benchmarks/results/ssr_mesh.json.
+Writes results/benchmarks/ssr_mesh.json.
 """
 import argparse
 import json
@@ -23,6 +23,8 @@ from continuum_ref import limit_equilibrium as le
 from continuum_ref import ssr
 from continuum_ref.materials import MohrCoulomb
 from dem_core.workflow.water import WaterTable
+
+import outdir
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))
 from c_phi_slope import C, GAMMA, GROUND, PHI, WATER, slope_model  # noqa: E402  (the section)
@@ -69,7 +71,7 @@ def main():
                   f"{str(row['mechanism']):>5} {row['upturn']:8.3g} "
                   f"{row['newton_iterations']:5d} {row['run_s']:7.1f} "
                   f"{row['error_vs_bishop']:+9.2%}", flush=True)
-    out = Path(__file__).parent / "results" / "ssr_mesh.json"
+    out = outdir.results_dir() / "ssr_mesh.json"
     out.write_text(json.dumps({"machine": platform.node(), "bishop_dry": dry.factor,
                                "bishop_water": wet.factor, "rows": rows}, indent=1))
     print(f"wrote {out}")

@@ -24,7 +24,8 @@ every case is loaded to the same multiple of its strength): generalized Hoek-Bro
 near 0 and near 60 degrees. Each case is run twice: without step cutting
 (``min_step`` = the step) and with the default cutting (halve on failure down to 1e-3).
 Records convergence, load reached, steps, Newton iterations (converged steps) and run time.
-Writes results/stability_map.json and results/stability_map.png.
+Writes results/benchmarks/stability_map.json and .png (``--only dem``: stability_map_dem.*;
+``--reference``: benchmarks/results/).
 """
 from __future__ import annotations
 
@@ -316,8 +317,8 @@ def main(argv=None):
         out["continuum"] = continuum_map(a.full, print)
     out["wall_seconds"] = time.perf_counter() - t0
     name = "stability_map" if a.only is None else f"stability_map_{a.only}"
-    path = scenes.write_json(name, out)
-    plot(out, scenes.RESULTS / f"{name}.png")
+    path = scenes.write_json(name, out, a.reference)
+    plot(out, scenes.results_dir(a.reference) / f"{name}.png")
     print(f"wrote {path} ({out['wall_seconds']:.0f} s)")
 
 

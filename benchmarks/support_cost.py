@@ -37,7 +37,7 @@ Reported: time per step and its ratio to the plain model, the automatic time ste
 of model time, and the support's node, segment and bond counts. A profile of the cable kernel's
 parts (``components/cables.py``: the segments' axial forces, the grout on the blocks, moving
 the nodes), each looped inside numba on a copy of the model, says where the extra time goes.
-Writes results/support_cost.json and results/support_cost.png.
+Writes results/benchmarks/support_cost.json and .png (``--reference``: benchmarks/results/).
 """
 from __future__ import annotations
 
@@ -239,7 +239,7 @@ def kernel_profile(m, snap, n=2000):
 
     def timed(name, fn):
         m.restore(snap)
-        support.set_controls(m)
+        support.set_controls(m.cables, m.liners, m.dt, m.damping, m.time, m.gravity)
         fn(1)                                       # compile
         best = math.inf
         for _ in range(3):
@@ -459,6 +459,7 @@ def main(argv=None):
                     help="Voronoi edge lengths, m (default 0.6 1.0; quick 0.8)")
     ap.add_argument("--steps", type=int, default=None, help="steps per round")
     ap.add_argument("--reps", type=int, default=None, help="alternating rounds")
+    scenes.outdir.add_reference_flag(ap)
     a = ap.parse_args(argv)
     quick = a.quick
     n_benches = 6 if quick else 20
@@ -481,8 +482,8 @@ def main(argv=None):
                        "kernel_estimate_ratio": r["kernel_estimate_ratio"],
                        "target": 1.10, "met": bool(r["time_per_step_ratio"] < 1.10)}
     out["wall_seconds"] = time.perf_counter() - t0
-    path = scenes.write_json("support_cost", out)
-    plot(out, scenes.RESULTS / "support_cost.png", *drawn)
+    path = scenes.write_json("support_cost", out, a.reference)
+    plot(out, scenes.results_dir(a.reference) / "support_cost.png", *drawn)
     for run in out["runs"]:
         r = run["rows"][1]
         print(f"{r['cables']} cables ({r['cable_nodes']} nodes) in {run['scene']['blocks']} "

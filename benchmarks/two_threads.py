@@ -20,7 +20,8 @@ between calls): the contact pass (``parallel.add_contact_forces_parallel``: chun
 log, shared blocks), damping and integration (``integration.advance_parallel``), gravity
 (``components.add_gravity``), against the serial kernels (the one-region step,
 ``region.run_steps_region``, is the whole step of the gravity-only model above). Writes
-``benchmarks/results/two_threads.json`` and ``two_threads.png``.
+``results/benchmarks/two_threads.json`` and ``two_threads.png`` (``--reference``:
+``benchmarks/results/``).
 """
 from __future__ import annotations
 
@@ -32,25 +33,11 @@ import time
 
 import numpy as np
 
+import outdir
+from machine_threads import build, ceiling, start_delay   # the model, the machine's own numbers
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 STEPS = {1000: 1500, 10_000: 200, 100_000: 20}
-
-
-def build(n_blocks, threads, base_load=False):
-    from dem_core.contact.materials import Material
-    from dem_core.model import Model
-
-    from throughput import specimen
-    bs = specimen(n_blocks)
-    flaw = Material(kn=40e9, ks=20e9, tensile_strength=1.1e6, cohesion=1.2e6, friction=37)
-    m = Model(bs, {"flaw:*": flaw, "boundary:*": flaw}, density=1700, history_every=10**9,
-              threads=threads)
-    m.fix("base")
-    m.set_gravity(50.0)
-    if base_load:                       # on the fixed base: moves nothing, two-region step
-        m.apply_load("base", fy=-1e3)
-    m.cycle(20)                                     # compile or load the cache
-    return m
 
 
 def _loops():
@@ -97,8 +84,8 @@ def parts(m, steps, loops):
     numba.set_num_threads(2)
     from dem_core.step.threads.parallel import parallel_bundle
     par = parallel_bundle(m.contacts, m.n_blocks, 2, m.edge_elements)
-    integ = m._integrator()
-    g = m._components()[0]
+    integ = m.integrator()
+    g = m.parts().gravity
     strength = m.table.strength_array()
     out = {}
     for name, fn, args in (
@@ -145,7 +132,6 @@ def compare(n_blocks, rounds, steps, loops):
                                                   / statistics.median(times[k]), 3)
     row["ns_per_update_1"] = round(1e9 * min(times["1"]) / one.contacts.n, 2)
     row.update(parts(models["2"], steps, loops))
-    from machine_threads import ceiling          # the machine's own two-core throughput
     row.update(ceiling(n_blocks, rounds, steps))
     return row
 
@@ -185,7 +171,9 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--blocks", type=int, nargs="*", default=[1000, 3000, 10_000, 100_000])
     ap.add_argument("--rounds", type=int, default=15)
-    ap.add_argument("--out", default=os.path.join(HERE, "results"))
+    ap.add_argument("--out", default=None,
+                    help="folder (default results/benchmarks/; --reference: benchmarks/results/)")
+    outdir.add_reference_flag(ap)
     ap.add_argument("--layer", default="default", choices=["default", "tbb", "omp", "workqueue"],
                     help="numba threading layer (default: numba's choice, tbb when installed)")
     a = ap.parse_args()
@@ -196,7 +184,6 @@ def main():
     sys.path.insert(0, HERE)
     from scenes import machine
     loops = _loops()
-    from machine_threads import start_delay
     start = start_delay()
     print(json.dumps(start), flush=True)
     rows = []
@@ -205,6 +192,7 @@ def main():
         row = compare(n, a.rounds, steps, loops)
         print(json.dumps(row), flush=True)
         rows.append(row)
+    a.out = a.out or str(outdir.results_dir(a.reference))
     os.makedirs(a.out, exist_ok=True)
     name = "two_threads" if a.layer == "default" else f"two_threads_{a.layer}"
     with open(os.path.join(a.out, name + ".json"), "w") as f:

@@ -1,5 +1,5 @@
 """Case ``adhikary``: centrifuge flexural toppling, Adhikary & Dyskin (2006) model IGM-01
-(thesis 4.2, CASES.md section 2).
+(thesis section 4.2, Table 4.1).
 
 Methods:
 
@@ -134,8 +134,9 @@ def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
     tensile_runs = [by_label[centrifuge.tensile_label(t)] for t in v["tensile"]]
     base_run = by_label.get("T=1.1", tensile_runs[0])
     result.methods["dem"] = {
-        "failure_g": [[r["params"]["flaw_tensile"] / MPA, r["failure_g"]] for r in tensile_runs],
-        "last_stable_g": [[r["params"]["flaw_tensile"] / MPA, r["last_stable_g"]]
+        "failure_g": [[r["params"]["flaw_tensile_strength"] / MPA, r["failure_g"]]
+                      for r in tensile_runs],
+        "last_stable_g": [[r["params"]["flaw_tensile_strength"] / MPA, r["last_stable_g"]]
                           for r in tensile_runs],
         "friction_study": [[r["params"]["flaw_friction"], r["failure_g"]] for r in runs
                            if r["label"].startswith("flaw friction")],

@@ -28,7 +28,7 @@ def run_continuum(h: float, g_max: float, result) -> dict:
     mesh = mesh_from_scene(sc, h)
     material = MohrCoulomb(E=p.block_E, nu=p.block_nu, cohesion=p.flaw_cohesion,
                            friction=p.flaw_friction, dilation=0.0,
-                           tensile_strength=p.flaw_tensile)
+                           tensile_strength=p.flaw_tensile_strength)
     out = continuum_critical_g(
         sc, mesh, material, g_max, result, RUNAWAY,
         "Mohr-Coulomb c 1.6 MPa, friction 37, T 1.1 MPa, dilation 0 (intact rock smeared; no "

@@ -66,7 +66,7 @@ def ramp_members(v: dict, seed: int, **studies) -> list:
     if v["conventional"]:
         members.append(dict(label="conventional", params=dict(base, conventional=True),
                             **common))
-    members += [dict(label=tensile_label(t), params=dict(base, flaw_tensile=t), **common)
+    members += [dict(label=tensile_label(t), params=dict(base, flaw_tensile_strength=t), **common)
                 for t in v["tensile"]]
     for label, (name, values, *divisor) in studies.items():
         scale = divisor[0] if divisor else 1.0

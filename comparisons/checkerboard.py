@@ -1,5 +1,5 @@
 """Case ``checkerboard``: the Checkerboard Creek slope above the Revelstoke dam, weathering as
-strength loss (thesis chapter 7, CASES.md section 8).
+strength loss (thesis chapter 7, sections 7.6-7.8, Tables 7.1-7.5).
 
 Methods (the scene: comparisons/scenes/checkerboard.py, every assumption there):
 

@@ -1,5 +1,5 @@
 """Case ``coal_buckling``: buckling of a 3.5 m footwall layer on a 75 m, 30 degree open-pit coal
-slope (thesis 5.3.2, Stead & Eberhardt 1997; CASES.md section 6): gravity, then the layer's
+slope (thesis section 5.3.2, Table 5.4; Stead & Eberhardt 1997): gravity, then the layer's
 tensile strength lowered everywhere until the slope fails.
 
 Methods:

@@ -1,6 +1,6 @@
 """Case ``common_toppling``: block-flexural toppling of an excavated slope with one joint set
 dipping 80 degrees into it, after Nichol et al. (2002) (thesis 5.2.2, figs 5.6-5.10, tables 5.2
-and 5.3; CASES.md section 5). Scene and every geometry assumption:
+and 5.3). Scene and every geometry assumption:
 comparisons/scenes/common_toppling.py.
 
 Two studies, each a list of sweep members (``comparisons.staged.stage_run``):
@@ -54,7 +54,7 @@ DESCRIPTION = ("Common (block-flexural) toppling after Nichol et al. 2002 (thesi
                "thickness; damage model vs conventional DEM vs continuum")
 
 MPA = 1e6
-TABLE_5_2 = dict(flaw_friction=30.0, flaw_cohesion=5e6, flaw_tensile=1e6)
+TABLE_5_2 = dict(flaw_friction=30.0, flaw_cohesion=5e6, flaw_tensile_strength=1e6)
 TABLE_5_3 = dict(flaw_friction=42.0, flaw_cohesion=14e6)           # T 1..5 MPa
 T_START = 10e6                 # Pa: the strength schedule starts above the thesis's 7 MPa
 FAILURE_DISPLACEMENT = 1.0     # m in one solve: beyond the ~0.15 m elastic crest movement
@@ -176,7 +176,7 @@ def members(v: dict, seed: int) -> list:
     for s in v["spacings"]:
         for t in v["hc_tensile"]:
             out.append(dict(label=f"Hc {s:g} m, T={t / MPA:g}", study="height", v=vv,
-                            params=dict(geo, spacing=s, flaw_tensile=t, **TABLE_5_3)))
+                            params=dict(geo, spacing=s, flaw_tensile_strength=t, **TABLE_5_3)))
     for m in out:
         m["solver"], m["settle"] = dict(v["solver"]), v["settle"]
     return out
@@ -268,7 +268,7 @@ def _height_results(result, runs, v):
     """Hc per spacing and T (table 5.3), its figure and the picture of a failed run."""
     import matplotlib.pyplot as plt
 
-    rows = [[r["params"]["spacing"], r["params"]["flaw_tensile"] / MPA, r["hc"],
+    rows = [[r["params"]["spacing"], r["params"]["flaw_tensile_strength"] / MPA, r["hc"],
              r["hc"] is not None and has_rupture(r, r["hc"])]
             for r in runs.values() if "hc" in r]
     result.methods["dem"]["critical_height"] = rows

@@ -1,5 +1,5 @@
 """Case ``highwood``: flexural buckling of the quartzite beds of Highwood Pass site 1 (Hu &
-Cruden 1993; thesis 5.3.3, table 5.5, figs 5.15-5.20; CASES.md section 6).
+Cruden 1993; thesis 5.3.3, table 5.5, figs 5.15-5.20).
 
 Methods:
 
@@ -229,7 +229,7 @@ def _ratio_figure(result):
     if up.any():
         ax.plot(np.asarray(k)[up], np.asarray(onset)[up], "^", ms=10, mfc="none",
                 color="tab:blue", label="cracked at the first level: onset at or above")
-    real = scene.HighwoodParams().flaw_tensile / MPA
+    real = scene.HighwoodParams().flaw_tensile_strength / MPA
     ax.axhline(real, ls="--", lw=0.8, color="grey", label=f"real strength {real:g} MPa")
     ax.plot(k, [np.nan if t is None else t for t in m["failure_T_MPa"]], "s-",
             label="DEM: T at failure (none: not drawn)")

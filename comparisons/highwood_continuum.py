@@ -24,7 +24,7 @@ F_MAX = 20.0
 def equivalent_rock_mass(p: scene.HighwoodParams) -> dict:
     """The Mohr-Coulomb properties (SI units) of the module docstring."""
     return {"cohesion": p.flaw_cohesion, "friction": p.flaw_friction,
-            "tensile_strength": p.flaw_tensile}
+            "tensile_strength": p.flaw_tensile_strength}
 
 
 def factor_of_safety(p: scene.HighwoodParams, h: float) -> dict:
@@ -72,6 +72,6 @@ def run_continuum(params: dict, ratios, h: float) -> dict:
             "mechanism": [r.get("mechanism") for r in rows], "h_m": h,
             "f_max": F_MAX,
             "material": f"isotropic Mohr-Coulomb c {p.flaw_cohesion / 1e6:g} MPa, friction "
-                        f"{p.flaw_friction:g}, T {p.flaw_tensile / 1e6:g} MPa, dilation 0 "
+                        f"{p.flaw_friction:g}, T {p.flaw_tensile_strength / 1e6:g} MPa, dilation 0 "
                         "(intact quartzite, no bedding)",
             "runtime_s": time.perf_counter() - t0}

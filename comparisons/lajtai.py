@@ -1,5 +1,5 @@
 """Case ``lajtai``: virtual lab calibration and Lajtai's direct shear tests (thesis ch. 3,
-CASES.md section 1).
+sections 3.5-3.8, Table 3.1).
 
 Studies (DEM damage model, ``dem`` method):
 
@@ -73,7 +73,7 @@ VARIANTS = {
 # default); a size (m), the specimen's blocks deformable (UDEC's, as the thesis's), meshed into
 # zones of that size (Model's ``deformable``). With 3.5 mm zones the calibration reaches the
 # thesis's 4.1 MPa at c = 0.75 MPa, which rigid blocks cannot (their floor is 4.4 MPa), at about
-# 20 times a rigid test's run time (benchmarks/deformable_ucs.py, docs/comparisons.md).
+# 20 times a rigid test's run time (benchmarks/trials/deformable_ucs.py, docs/comparisons.md).
 
 # thesis 3.6-3.8: flaws and joints at friction 30 for the persistence, T and scale studies
 STUDY_FRICTION = 30.0
@@ -438,7 +438,7 @@ def _references(res, dem, runs, c_cal):
     T, phi, c = scene.THESIS_TENSILE, scene.THESIS_FRICTION, scene.THESIS_COHESION
     res.reference.update({
         "ucs_mpa": scene.THESIS_UCS / MPA, "calibrated_cohesion_mpa": c / MPA,
-        "flaw_tensile_mpa": T / MPA, "flaw_friction_deg": phi,
+        "flaw_tensile_strength_mpa": T / MPA, "flaw_friction_deg": phi,
         "kn_gpa_m": scene.THESIS_KN / 1e9, "ks_gpa_m": scene.THESIS_KS / 1e9,
         "block_E_gpa": scene.THESIS_BLOCK_E / 1e9,
         "k1_friction_deg": STUDY_FRICTION,

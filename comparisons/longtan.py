@@ -1,5 +1,5 @@
 """Case ``longtan``: the block-toppling centrifuge model of the Longtan intake slope, Zhang et
-al. (2006) (thesis 4.3, CASES.md section 3).
+al. (2006) (thesis section 4.3, Tables 4.2 and 4.3).
 
 Methods:
 
@@ -92,8 +92,9 @@ def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
     dem_runs = [by_label[centrifuge.tensile_label(t)] for t in v["tensile"]]
     base_run = dem_runs[0]
     result.methods["dem"] = {
-        "failure_g": [[r["params"]["flaw_tensile"] / MPA, r["failure_g"]] for r in dem_runs],
-        "last_stable_g": [[r["params"]["flaw_tensile"] / MPA, r["last_stable_g"]]
+        "failure_g": [[r["params"]["flaw_tensile_strength"] / MPA, r["failure_g"]]
+                      for r in dem_runs],
+        "last_stable_g": [[r["params"]["flaw_tensile_strength"] / MPA, r["last_stable_g"]]
                           for r in dem_runs],
         "rupture": base_run["rupture"], "cracks": base_run["cracks"],
         "blocks": base_run["blocks"], "contacts": base_run["contacts"],

@@ -29,7 +29,7 @@ def equivalent_rock_mass(p: scene.LongtanParams) -> dict:
     tan_phi = (1 - k) * np.tan(np.radians(p.flaw_friction)) + k * np.tan(
         np.radians(p.base_friction))
     return {"cohesion": (1 - k) * p.flaw_cohesion, "friction": float(np.degrees(
-        np.arctan(tan_phi))), "tensile_strength": (1 - k) * p.flaw_tensile}
+        np.arctan(tan_phi))), "tensile_strength": (1 - k) * p.flaw_tensile_strength}
 
 
 def run_continuum(h: float, g_max: float, result) -> dict:

@@ -1,5 +1,5 @@
 """Case ``lornex``: the Highland Valley Copper Lornex pit south-east wall, 15 mining blocks
-against the survey prisms' displacement record (thesis chapter 6, CASES.md section 7).
+against the survey prisms' displacement record (thesis chapter 6, sections 6.4-6.8, Tables 6.1-6.5).
 
 Methods (each one sweep member running the scene's whole stage list,
 ``comparisons.staged.stage_run``; the scene and every assumption: comparisons/scenes/lornex.py):

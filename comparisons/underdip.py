@@ -1,5 +1,5 @@
-"""Case ``underdip``: underdip toppling of a bedded 75 m slope (thesis 5.2.1, Cruden & Hu 1994;
-CASES.md section 4): gravity, then the flaws' tensile strength lowered until the slope fails.
+"""Case ``underdip``: underdip toppling of a bedded 75 m slope (thesis section 5.2.1, Table 5.1;
+Cruden & Hu 1994): gravity, then the flaws' tensile strength lowered until the slope fails.
 
 Methods:
 

@@ -1,8 +1,9 @@
 """One process at a time compiles a kernel; the others load what it wrote to numba's cache.
 
 numba compiles a ``cache=True`` kernel the first time a process calls it with new argument
-types, or loads it from the cache that an earlier process wrote (the step: about two minutes
-to compile from a clean clone, a tenth of a second to load). Processes that start together,
+types, or loads it from the cache that an earlier process wrote (compiling the step from a
+clean clone takes far longer than loading it: docs/performance.md, "The serial kernel and
+numba's pipelines"). Processes that start together,
 each with an empty cache (a sweep's members, pytest-xdist's workers), would each compile it.
 ``compiled`` compiles (or loads) a kernel for the types of its arguments under a file lock,
 so the first process compiles and the others wait for it and load its cache entry.
@@ -21,8 +22,9 @@ __all__ = ["compiled", "lock", "lock_path"]
 def compiled(kernel, args):
     """``kernel`` (a numba dispatcher) with an entry for the types of ``args``, compiled or
     loaded from the cache under the lock (``lock``) if this process has no entry yet. Once it
-    has one, numba's own dispatch takes over (typing the arguments in Python here costs about
-    1.6 ms a call for the step's bundles; a further signature, if any, compiles on the call,
+    has one, numba's own dispatch takes over (typing the arguments in Python here costs too
+    much to do at every call: docs/performance.md, "The serial kernel and numba's pipelines";
+    a further signature, if any, compiles on the call,
     unlocked)."""
     if not kernel.overloads:
         types = tuple(kernel.typeof_pyval(a) for a in args)

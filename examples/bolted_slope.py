@@ -4,8 +4,8 @@ of grouted cables, in the DEM and by limit equilibrium.
 The slope (30 m, face 60 deg, bedding dipping 40 deg out of the face, c = 20 kPa, phi = 35 deg,
 k = 1.5, three lifts, a water table) is cut and drained as in ``field_slope.py``; then five
 cables are installed across the face, collared every 5 m of height, 20 m long, dipping 15 deg
-into the slope, 4 m apart along the slope (the thesis's Checkerboard Creek cables, CASES.md
-section 8: 625 mm^2 strand, E 98 GPa, yield 0.548 MN, grout 6 GN/m/m and 0.32 MN/m), and the
+into the slope, 4 m apart along the slope (the thesis's Checkerboard Creek cables, section 7.8,
+Table 7.5: 625 mm^2 strand, E 98 GPa, yield 0.548 MN, grout 6 GN/m/m and 0.32 MN/m), and the
 strength-reduction factor of safety of the joints is searched again (the cables keep their
 strength, as UDEC's structural elements do under strength reduction).
 

@@ -66,6 +66,15 @@ def pytest_configure(config):
         os.environ["COMPARISONS_WORKERS"] = str(max(1, usable_cores() // workers))
 
 
+# The thesis's cases (their quick variants and case runs): marked ``case``, so that
+# ``./dev test --fast`` (``-m "not case"``) runs the physics without them
+CASE_FILES = ("_quick.py", "_case.py")
+
+
 def pytest_collection_modifyitems(config, items):
-    """Files in the order above (a stable sort: each file's tests keep their order)."""
+    """Files in the order above (a stable sort: each file's tests keep their order); the case
+    files' tests marked ``case``."""
     items.sort(key=lambda item: _ORDER.get(item.path.name, len(_ORDER)))
+    for item in items:
+        if item.path.name.endswith(CASE_FILES):
+            item.add_marker(pytest.mark.case)

@@ -1,4 +1,4 @@
-"""Bad input a new user tries (issue 28): each is refused with a clear error naming the value,
+"""Bad input a new user tries: each is refused with a clear error naming the value,
 before any compute; none passes in silence or ends in a traceback from deep inside."""
 import math
 import os

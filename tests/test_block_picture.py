@@ -1,4 +1,4 @@
-"""Block pictures (issue 28): the cracks are drawn as the shared edges whose bonds broke, on the
+"""Block pictures: the cracks are drawn as the shared edges whose bonds broke, on the
 blocks that carry them, with the mode of each edge's first break; joints as thin lines; the
 displacement magnification is a round number that makes the motion visible; a continuum yield
 picture says so when nothing has yielded."""

@@ -99,6 +99,6 @@ def test_scene_round_trips_and_bad_params_are_refused(tmp_path):
     sc.save(tmp_path / "s.json")
     assert Scene.load(tmp_path / "s.json").to_dict() == sc.to_dict()
     for bad in (dict(spacing=-1.0), dict(spacing=1.5, edge_length=3.0),
-                dict(flaw_tensile=1e9), dict(zone_depth=500.0), dict(joint_friction=95.0)):
+                dict(flaw_tensile_strength=1e9), dict(zone_depth=500.0), dict(joint_friction=95.0)):
         with pytest.raises(ValueError, match=next(iter(bad))):
             scene.ToppleParams(**bad)

@@ -1,4 +1,5 @@
-"""Hoek-Brown parameter formulas against the thesis tables (CASES.md) and published identities.
+"""Hoek-Brown parameter formulas against thesis Tables 6.1 and 6.2 (section 6.4) and published
+identities.
 
 No DOLFINx: these run in milliseconds.
 """

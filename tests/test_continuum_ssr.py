@@ -1,4 +1,4 @@
-"""Strength-reduction factor of safety: mesh independence, Bishop, pore pressure (issue 22).
+"""Strength-reduction factor of safety: mesh independence, Bishop, pore pressure.
 
 The slope: H = 10 m, 45 deg face, 3 m of foundation on a rigid base, c = 20 kPa, phi = 30 deg,
 gamma = 20 kN/m3, E = 100 MPa, nu = 0.3, fixed base, rollers on the sides (P2, refined along

@@ -61,8 +61,7 @@ def test_eigen_step_is_the_stability_limit(kn_over_ks):
     below.cycle(3000)
     assert below.kinetic_energy() + below.strain_energy() < 2 * e0
     above = bonded_wall(kn_over_ks, 1.0)
-    above.fixed_dt = 1.05 * above.critical_dt
-    above.dt = above.fixed_dt
+    above.set_options(dt=1.05 * above.critical_dt)
     with pytest.raises(ModelUnstable):
         above.cycle(3000)
 
@@ -72,7 +71,7 @@ def test_eigen_step_is_a_function_of_the_state():
     # recomputed (a resumed run steps as one that had not stopped)
     a, b = bonded_wall(1.0, 0.5), bonded_wall(1.0, 0.5)
     assert a.critical_dt == b.critical_dt
-    a._update_timestep()
+    a.update_timestep()
     assert a.critical_dt == b.critical_dt
 
 

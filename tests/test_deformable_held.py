@@ -154,7 +154,7 @@ def test_conventional_scene_has_joint_blocks_deformable_and_optionally_plastic()
     conv = conventional(sc, 0.005, plastic=True)
     assert sc.geometry.voronoi and not conv.geometry.voronoi      # the scene is not changed
     assert conv.solver["zone_strength"]["rock"] == dict(cohesion=1.6e6, friction=37.0,
-                                                        tensile=1.1e6)
+                                                        tensile_strength=1.1e6)
     m = build_model(conv)
     assert m.n_blocks < 60 and m.deformable_blocks.all()         # the beds, not the flaws
     assert np.isfinite(m.zone_state.strength[:, 0]).all()

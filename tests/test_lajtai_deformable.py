@@ -1,10 +1,10 @@
-"""The lajtai UCS test with deformable blocks (issue 24; docs/comparisons.md, lajtai).
+"""The lajtai UCS test with deformable blocks (docs/comparisons.md, lajtai).
 
 A broken specimen of rigid Voronoi blocks interlocks by friction: at a near-zero flaw cohesion
 its UCS is about 4.4 MPa, above the thesis's 4.1 MPa, so the calibration cannot reach the
 target (the strict xfail in test_lajtai_case.py). The thesis's UDEC blocks were deformable;
 with the specimen's blocks meshed into zones (the case's ``zone_size`` setting) the floor falls
-below the target and the calibration has room (benchmarks/deformable_ucs.py: c = 0.75 MPa gives
+below the target and the calibration has room (benchmarks/trials/deformable_ucs.py: c = 0.75 MPa gives
 4.12 MPa with 3.5 mm zones). Coarse 7 mm zones keep this test short.
 """
 import pytest

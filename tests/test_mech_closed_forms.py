@@ -4,6 +4,8 @@ Each test compares a measured number with its closed form and a tolerance that a
 wrong sign or wrong integrator would break.
 """
 import math
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -12,23 +14,10 @@ from dem_core.contact.materials import Material
 from dem_core.model import Model
 from dem_core.geometry.simple_blocks import from_polygons
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+from scenes import block_on_plane, bonded_pair, tilt  # noqa: E402  (benchmarks/scenes.py)
+
 G = 9.81
-
-
-def block_on_plane(friction, width=1.0, height=0.5, **kw):
-    """A width x height block on a long fixed base; tilting gravity by theta = inclined plane."""
-    bs = from_polygons([[(0, 0), (20, 0), (20, 1), (0, 1)],
-                        [(2, 1), (2 + width, 1), (2 + width, 1 + height), (2, 1 + height)]],
-                       edge_material="joint:base", groups={"base": [0], "block": [1]})
-    m = Model(bs, {"joint:*": Material(kn=1e9, ks=1e9, friction=friction)}, density=2000,
-              damping=0.0, **kw)
-    m.fix("base")
-    return m
-
-
-def tilt(model, theta_deg):
-    th = math.radians(theta_deg)
-    model.set_gravity(1.0, direction=(math.sin(th), -math.cos(th)))
 
 
 @pytest.mark.parametrize("theta, friction", [(30.0, 20.0), (40.0, 10.0)])
@@ -52,7 +41,7 @@ def test_block_stays_below_friction_angle_and_slides_above(friction, slides):
     # Settled first (a suddenly applied load overshoots and would slip dynamically), then
     # tilted to 30 deg with quasi-static damping.
     m = block_on_plane(friction)
-    m.damping = 0.8
+    m.set_options(damping=0.8)
     tilt(m, 0.0)
     m.cycle(2000)
     tilt(m, 30.0)
@@ -82,13 +71,6 @@ def test_tipping_limit_is_not_confused_with_sliding():
         m2.cycle(100)
         rocking = max(rocking, abs(m2.state.theta[1]))
     assert rocking < 2e-3
-
-
-def bonded_pair(kn=1e9, ks=1e9, safety=0.5):
-    bs = from_polygons([[(0, 0), (1, 0), (1, 1), (0, 1)], [(0, 1), (1, 1), (1, 2), (0, 2)]],
-                       edge_material="flaw:rock", groups={"base": [0], "top": [1]})
-    return Model(bs, {"flaw:*": Material(kn=kn, ks=ks, breakable=False)}, density=2000,
-                 damping=0.0, safety=safety)
 
 
 def test_bonded_block_oscillates_with_spring_mass_period_and_keeps_energy():

@@ -1,6 +1,6 @@
 """One bonded edge in pure bending: the two contacts of a shared edge act as one linear
 interface element (``forces.edge_correction``), so the edge turns with the elastic rotational
-stiffness kn L^3 / 12 and breaks at the elastic moment T L^2 / 6 (issue 24, item 1)."""
+stiffness kn L^3 / 12 and breaks at the elastic moment T L^2 / 6."""
 import numpy as np
 import pytest
 

@@ -57,7 +57,7 @@ def test_the_mirrored_block_slides_alike_beyond_its_friction_limit():
     ux, accel = [], []
     for side in (+1, -1):
         m = resting_block(side, theta_deg=40.0, friction=30.0)
-        m.damping = 0.0
+        m.set_options(damping=0.0)
         m.cycle(500)
         t1, v1 = m.time, side * m.state.vel[1, 0]
         m.cycle(1000)                                   # about 14 m down the 20 m base

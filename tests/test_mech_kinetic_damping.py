@@ -7,6 +7,9 @@
   damping turns a slender structure's lowest mode into a slow creep: the reason the option
   exists, docs/mechanics.md).
 """
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -14,7 +17,8 @@ from dem_core.contact.materials import Material
 from dem_core.model import Model
 from dem_core.geometry.simple_blocks import brick_grid
 
-from test_mech_specimens import materials, voronoi_bar
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+from scenes import materials, voronoi_bar  # noqa: E402
 
 
 def test_hanging_block_settles_to_the_static_spring_extension():
@@ -107,7 +111,7 @@ def test_a_kinetic_damping_stop_is_a_turning_point_of_the_restarted_motion():
         pytest.fail("kinetic damping never stopped the motion")
     offset = abs(-m.point_motion("tip")[1] - static)
     assert offset > 1e-3 * static        # stopped off equilibrium: the test has a swing to see
-    m.kinetic_damping = 0                # watch the free motion after the stop
+    m.set_options(kinetic_damping=0)               # watch the free motion after the stop
     omega = np.sqrt(kn * w / (rho * w * h))
     swing = []
     for _ in range(int(2 * np.pi / omega / m.dt) + 2):

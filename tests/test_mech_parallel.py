@@ -60,7 +60,7 @@ def test_threaded_integration_pass_is_bit_for_bit_serial():
     model.fix("base")
     numba.set_num_threads(2)
     one, two = copy_bundle(model.state), copy_bundle(model.state)
-    integ = model._integrator()
+    integ = model.integrator()
     for _ in range(5):
         model.state.force[:] = np.random.default_rng(0).normal(size=model.state.force.shape)
         for s in (one, two):
@@ -80,9 +80,9 @@ def test_the_threaded_step_is_one_region_only_when_gravity_is_the_only_other_for
     flaw = Material(kn=1e10, ks=5e9, tensile_strength=2e4, cohesion=4e4, friction=35)
     model = Model(bs, {"flaw:*": flaw, "boundary:*": flaw}, density=2500.0)
     model.set_gravity(9.81)
-    assert only_gravity(*model._components()[1:], model.zone_state)
+    assert only_gravity(model.parts(), model.zone_state)
     model.apply_load("rock", fx=1.0)
-    assert not only_gravity(*model._components()[1:], model.zone_state)
+    assert not only_gravity(model.parts(), model.zone_state)
 
 
 @pytest.mark.skipif(numba.config.NUMBA_NUM_THREADS < 2, reason="needs 2 threads")

@@ -31,7 +31,7 @@ def test_falling_block_is_caught_by_the_search_and_rests_on_the_base():
     assert m.state.vel[1, 1] == pytest.approx(-G * m.time, rel=1e-6)   # still free
     assert m.contacts.n >= 2                        # found before touching (within the margin)
     assert np.all(m.contacts.sn[:m.contacts.n] == 0)
-    m.damping = 0.8
+    m.set_options(damping=0.8)
     r = m.solve(ratio=1e-4, max_steps=50_000)
     assert r.verdict == "equilibrium", r.reason
     c = m.contacts
@@ -54,7 +54,7 @@ def test_toppling_column_finds_new_contacts_and_keeps_history():
     m.state.omega[1] = -1.0
     m.state.vel[1] = (1.0, 0.2)
     m.cycle(int(1.5 / m.dt))
-    m.damping = 0.8
+    m.set_options(damping=0.8)
     assert m.state.theta[1] < -1.2            # fell over towards +x (about -pi/2 + a bit)
     r = m.solve(ratio=1e-4, max_steps=80_000)
     assert r.verdict == "equilibrium", r.reason
@@ -193,9 +193,9 @@ def test_a_squeezed_thin_block_is_named_as_the_cause():
     m = Model(bs, {"flaw:*": Material(kn=1e9, ks=1e9)}, density=2500)
     c = m.contacts
     mine = np.flatnonzero((c.block_a[:c.n] == 1) | (c.block_b[:c.n] == 1))
-    assert "squeezed" not in m._diagnose(1)
+    assert "squeezed" not in m.diagnose(1)
     width = bs.area[1] / (2.0 * m.props.radius[1])
     c.un[mine[0]] = -0.2 * width                     # overlap a fifth of the width
     c.sn[mine[0]] = 1e9 * 0.2 * width
-    msg = m._diagnose(1)
+    msg = m.diagnose(1)
     assert "squeezed block" in msg and "0.2 of its width" in msg

@@ -50,7 +50,7 @@ def test_a_block_resting_across_the_split_top_carries_its_weight():
     """Under gravity the two contacts carry the weight: no corner sinks through the top."""
     m = block_on_split_top(0.45)                      # corners over two different pieces
     m.set_gravity(1.0)
-    m.damping = 0.8
+    m.set_options(damping=0.8)
     m.cycle(4000)
     overlap = H - (m.state.pos[1, 1] - m.state.pos0[1, 1])
     weight = 2000 * 0.3 * 0.2 * 9.81                  # N per m out of plane

@@ -6,22 +6,18 @@ the O((omega dt)^2) wobble of central differences), slip and breakage only remov
 instability makes it grow without bound. The test asserts E <= 5 % of the largest spring energy
 seen, and that the specimen is still in one place (no block moved more than its own size).
 """
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 
-from dem_core.geometry import GeometrySpec, Voronoi, build_block_system, rectangle
 from dem_core.contact.materials import Material
 from dem_core.model import Model
 from dem_core.geometry.simple_blocks import from_polygons
 
-
-def specimen(min_fraction=0.15, seed=2, relax=20):
-    spec = GeometrySpec(regions=[rectangle("rock", 0, 0, 0.1, 0.05),
-                                 rectangle("base", -0.02, -0.02, 0.12, 0.0)],
-                        voronoi={"rock": Voronoi(edge_length=0.01, seed=seed, relax_iterations=relax,
-                                                 min_edge_fraction=min_fraction,
-                                                 min_area_fraction=min_fraction)})
-    return build_block_system(spec)
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+from scenes import specimen  # noqa: E402  (benchmarks/scenes.py)
 
 
 def run_released(bs, kn, ks, g_level=1.0, friction=35.0, steps=3000, **kw):

@@ -1,4 +1,4 @@
-"""Progress of long runs (issue 28): each sweep member reports its level, steps, elapsed time
+"""Progress of long runs: each sweep member reports its level, steps, elapsed time
 and an estimate of the time left; in a log (not a terminal) each report is a plain line, on a
 terminal one line per running member is rewritten in place. The reports reach the parent from
 the same process and from a local process pool alike."""

@@ -37,9 +37,7 @@ def _run_region(m, n, chunks, threads):
         while done < n:
             par = parallel.parallel_bundle(m.contacts, m.n_blocks, chunks, m.edge_elements)
             steps, m.time, status, _ = region.run_steps_region(
-                n - done, m.time, m._integrator(), m.state, m.props, m.contacts,
-                m.table.strength_array(), m.cracks, m.corners, par, m._components()[0],
-                m.zone_state)
+                n - done, m.time, m.integrator(), m.world(), m.parts().gravity, par)
             assert status != UNSTABLE
             m.step += steps
             done += steps
@@ -72,11 +70,9 @@ def test_the_region_is_used_from_its_own_threshold():
     (a load) only from ``parallel.MIN_CONTACTS``."""
     m = _specimen(threads=2, edge=0.004, width=0.6)          # ~2,000 blocks
     assert region.MIN_CONTACTS <= m.contacts.n < parallel.MIN_CONTACTS
-    parts = (*m._components(), m.zone_state)
-    assert m._parallel(parts).first.shape[0] == 3             # two chunks
+    assert m.threads_bundle(m.parts()).first.shape[0] == 3             # two chunks
     m.apply_load("rock", fx=1.0)
-    parts = (*m._components(), m.zone_state)
-    assert m._parallel(parts).first.shape[0] == 0             # serial
+    assert m.threads_bundle(m.parts()).first.shape[0] == 0             # serial
 
 
 @njit(parallel=True)

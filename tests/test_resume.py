@@ -1,4 +1,4 @@
-"""Resumable case runs (issue 28): inside ``store.case_output`` every finished sweep member is
+"""Resumable case runs: inside ``store.case_output`` every finished sweep member is
 kept as soon as it finishes; a run that dies part-way is resumed with ``resume=True``: the kept
 members are loaded, not run again, the others run, and the results equal an uninterrupted
 run's. The command line does the same for a whole case (``--resume``) and writes the DEM

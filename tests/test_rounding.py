@@ -121,7 +121,7 @@ def test_a_corner_turns_round_the_end_of_a_face_continuously():
     face's normal there."""
     d, overlap, dt = 0.003, 2e-6, 1e-5
     m, tip = corner_on_base(d, 0.99, overlap, friction=0.0)
-    m.fixed_dt = dt
+    m.set_options(dt=dt)
     m.fix("block")
     corner = np.array([1.0 - d, 1.0 - d])                  # the base's corner centre
     radius = 2 * d - overlap
@@ -149,7 +149,7 @@ def test_a_corner_turns_round_the_end_of_a_face_continuously():
     assert np.array(stresses[5:]) == pytest.approx(KN * overlap, rel=2e-2)
     # sharp corners: the tip is held by the top face's line past its end
     m, tip = corner_on_base(0.0, 0.99, overlap, friction=0.0)
-    m.fixed_dt = dt
+    m.set_options(dt=dt)
     m.state.pos[1] += (path[-1] + offset) - m.state.pos[1]
     m.cycle(1)
     c = m.contacts

@@ -133,7 +133,8 @@ def test_gravity_ramp_records_a_numerical_blow_up_and_stops_without_a_failure_g(
                   dt=1e-3)
     model.fix("top")
     model.add_history_point("tip", (0.05, 0.0))
-    rec = raise_gravity(model, [1.0, 2.0], max_steps=2000, watch=("tip",), refine_to=0.5)
+    rec = raise_gravity(model, [1.0, 2.0], ratio=1e-4, max_steps=2000, watch=("tip",),
+                        refine_to=0.5)
     assert rec.unstable is not None and "critical step" in rec.unstable
     assert rec.g == [1.0] and rec.verdict == ["unstable"] and rec.steps[0] > 0
     assert rec.failure_g is None and rec.last_stable_g is None
@@ -169,8 +170,8 @@ def test_a_blow_up_after_the_slope_started_to_fail_counts_as_that_levels_failure
 
     monkeypatch.setattr(Model, "cycle", cycle)
     # no failure displacement: the level is judged by its growth (monitor.verdict)
-    rec = raise_gravity(model, [2.0, 6.0], max_steps=4000, watch=("tip",), refine_to=1.0,
-                        ramp_steps=0)
+    rec = raise_gravity(model, [2.0, 6.0], ratio=1e-4, max_steps=4000, watch=("tip",),
+                        refine_to=1.0, ramp_steps=0)
     assert rec.unstable is None
     assert [g for g, _ in rec.blowups] == [6.0] and "forced" in rec.blowups[0][1]
     assert rec.verdict[:2] == ["equilibrium", "failed"] and rec.steps[1] < 1000   # ended there

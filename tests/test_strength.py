@@ -67,7 +67,7 @@ def hanging_block():
     mat = Material(kn=1e10, ks=1e10, tensile_strength=2e4, cohesion=1e6, friction=30)
     m = Model(bs, {"flaw:*": mat}, density=2500.0, damping=0.8)
     m.fix("top")
-    run_stages(m, [Gravity(1.0), Solve(ratio=1e-6)])
+    run_stages(m, [Gravity(1.0), Solve(ratio=1e-6, max_steps=100_000)])
     return m
 
 
@@ -105,8 +105,9 @@ def test_staged_excavation_records_each_stage_and_refuses_a_group_twice():
     mat = Material(kn=1e9, ks=1e9, friction=35.0)
     sc = Scene(geo, {"*": mat}, density=2500.0, boundaries=[Boundary("base")],
                points={"b": (1.5, 1.5)},
-               stages=[Gravity(1.0), Solve(ratio=1e-6), Excavate("a"), Solve(ratio=1e-6),
-                       Excavate("c"), Solve(ratio=1e-6)])
+               stages=[Gravity(1.0), Solve(ratio=1e-6, max_steps=100_000), Excavate("a"),
+                       Solve(ratio=1e-6, max_steps=100_000), Excavate("c"),
+                       Solve(ratio=1e-6, max_steps=100_000)])
     m = build_model(sc)
     recs = run_stages(m, sc.stages)
     assert [r.verdict for r in recs[1::2]] == ["equilibrium"] * 3

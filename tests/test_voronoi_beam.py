@@ -1,4 +1,4 @@
-"""A bonded Voronoi cantilever against beam theory, 2, 3 and 5 blocks across (issue 24).
+"""A bonded Voronoi cantilever against beam theory, 2, 3 and 5 blocks across.
 
 A beam of depth H = 10 mm (an Adhikary & Dyskin bed) and length L = 10 H, bonded to a fixed
 clamp block by the flaws' own material, under its own weight q = rho g H:

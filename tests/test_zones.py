@@ -1,4 +1,4 @@
-"""Deformable zones (dem_core.deformable.zones, issue 24 item 2 part 1), against closed forms:
+"""Deformable zones (dem_core.deformable.zones: the zones on their own), against closed forms:
 
 - the explicit forces are -K u of the assembled stiffness, and a translation strains nothing;
 - patch test: on an irregular mesh of a pentagon, a linear displacement imposed on the boundary

@@ -130,7 +130,7 @@ def test_uniaxial_compression_peaks_at_the_plane_strain_ucs_and_stays():
 
 def test_uniaxial_tension_plateaus_at_the_tensile_strength():
     T = 0.5e6
-    z, top = specimen(dict(cohesion=C, friction=PHI, tensile=T))
+    z, top = specimen(dict(cohesion=C, friction=PHI, tensile_strength=T))
     syy = strain_path(z, top, 0.002)               # yield strain 0.05 %
     assert syy.max() == pytest.approx(T, rel=0.01)
     assert syy[-1] == pytest.approx(T, rel=0.01)
@@ -211,7 +211,7 @@ def test_save_load_and_a_scene_keep_the_strength(tmp_path):
                block_E=1e9, boundaries=[Boundary("base")],
                solver={"deformable": {"rock": 0.05},
                        "zone_strength": {"rock": dict(cohesion=1e5, friction=35.0,
-                                                      tensile=1e4)}})
+                                                      tensile_strength=1e4)}})
     built = build_model(Scene.from_dict(json.loads(json.dumps(sc.to_dict()))))
     assert np.array_equal(np.unique(built.zone_state.strength, axis=0),
                           [[1e5, 35.0, 0.0, 1e4]])
@@ -221,7 +221,8 @@ def test_save_load_and_a_scene_keep_the_strength(tmp_path):
     ({"top": dict(cohesion=-1.0, friction=30.0)}, "cohesion.*-1.0"),
     ({"top": dict(cohesion=1e5, friction=90.0)}, "friction.*90.0"),
     ({"top": dict(cohesion=1e5, friction=30.0, dilation=40.0)}, "dilation.*40.0"),
-    ({"top": dict(cohesion=1e5, friction=30.0, tensile=-5.0)}, "tensile.*-5.0"),
+    ({"top": dict(cohesion=1e5, friction=30.0, tensile_strength=-5.0)},
+     "tensile_strength.*-5.0"),
     ({"top": dict(cohesion=1e5, friction=float("nan"))}, "friction.*nan"),
     ({"top": dict(cohesion=1e5)}, "missing.*friction"),
     ({"top": dict(cohesion=1e5, friction=30.0, phi=3)}, "unknown.*phi"),

@@ -1,6 +1,50 @@
 """Thesis scenes as data: geometry, materials and boundary conditions, one module per case."""
 
+import functools
+import warnings
+
 from dem_core.workflow.scene import Boundary
+
+# case parameters that were renamed: old name -> new name. The old names are still accepted
+# (a sweep member's params, ``XParams(flaw_tensile=...)``, ``p.with_(flaw_tensile=...)``) for
+# one release, with a DeprecationWarning naming the new one.
+RENAMED_PARAMS = {"flaw_tensile": "flaw_tensile_strength"}
+
+
+def new_param_names(params: dict, where: str = "params") -> dict:
+    """``params`` with each old name (``RENAMED_PARAMS``) renamed, warning for each
+    (DeprecationWarning naming the new name); TypeError when both names are given."""
+    if not any(k in params for k in RENAMED_PARAMS):
+        return params
+    out = {}
+    for k, v in params.items():
+        new = RENAMED_PARAMS.get(k)
+        if new is None:
+            out[k] = v
+            continue
+        if new in params:
+            raise TypeError(f"{where}: give {new!r} only, not also its old name {k!r}")
+        warnings.warn(f"{where}: the parameter {k!r} is now {new!r} (the old name goes in the "
+                      "next release)", DeprecationWarning, stacklevel=3)
+        out[new] = v
+    return out
+
+
+def old_param_names(cls):
+    """Class decorator of a case's parameter dataclass: its constructor and ``with_`` also
+    take the old names of renamed parameters (``new_param_names``)."""
+    init, with_ = cls.__init__, cls.with_
+
+    @functools.wraps(init)
+    def __init__(self, *args, **kwargs):
+        init(self, *args, **new_param_names(kwargs, cls.__name__))
+
+    @functools.wraps(with_)
+    def with_new_names(self, **changes):
+        return with_(self, **new_param_names(changes, f"{cls.__name__}.with_"))
+
+    cls.__init__, cls.with_ = __init__, with_new_names
+    return cls
 
 # The centrifuge models' boundaries (thesis fig 4.8, assumed for both cases): the base fixed
 # (the blocks touching y = 0), rollers on both sides (the blocks touching x = 0 and x = width

@@ -1,4 +1,4 @@
-"""Adhikary & Dyskin (2006) centrifuge model IGM-01 (thesis 4.2, CASES.md section 2).
+"""Adhikary & Dyskin (2006) centrifuge model IGM-01 (thesis section 4.2, Table 4.1).
 
 Geometry (m), origin at the bottom-left corner of the model, the slope facing +x (the
 toolkit's convention: joints dipping into the slope are ``dip_direction="left"``):
@@ -17,9 +17,9 @@ toolkit's convention: joints dipping into the slope are ``dip_direction="left"``
   below the crest surface; point B on the face at mid-height, 2 mm inside the rock. Positive
   horizontal displacement is out of the slope (+x).
 
-Materials (CASES.md): blocks E 2.6 GPa, nu 0.16, unit weight 23.8 kN/m3; flaws kn 700, ks 600
-GPa/m, T 1.1 MPa, c 1.6 MPa, friction 37; bedding c 15 kPa, friction 23, T 0 (not given in the
-thesis: UDEC's default; ``bedding_tensile`` sets another, Pa) and, after a tensile or shear
+Materials (thesis Table 4.1, section 4.2.3): blocks E 2.6 GPa, nu 0.16, unit weight 23.8
+kN/m3; flaws kn 700, ks 600 GPa/m, T 1.1 MPa, c 1.6 MPa, friction 37; bedding c 15 kPa,
+friction 23, T 0 (not given in the thesis: UDEC's default; ``bedding_tensile`` sets another, Pa) and, after a tensile or shear
 failure, friction only (the thesis's residual c = T = 0; ``bedding_residual_cohesion``, Pa, keeps
 some cohesion on slipped beds: a perfectly plastic bedding when equal to ``bedding_cohesion``).
 **Assumption**: the bedding stiffness is not given; it is taken equal to the flaws' (the planes
@@ -40,7 +40,7 @@ from dem_core.workflow.scene import build_model as build_scene_model
 from dem_core.workflow.stages import RaiseGravity
 from dem_core.units import STANDARD_GRAVITY
 
-from . import CENTRIFUGE_BOUNDARIES, CENTRIFUGE_GROUPS
+from . import CENTRIFUGE_BOUNDARIES, CENTRIFUGE_GROUPS, old_param_names
 
 WIDTH, HEIGHT, SLOPE_HEIGHT, FACE_DIP, TOE_BENCH = 0.400, 0.395, 0.330, 61.0, 0.0
 BASE = HEIGHT - SLOPE_HEIGHT
@@ -48,6 +48,7 @@ UNIT_WEIGHT = 23.8e3
 DENSITY = UNIT_WEIGHT / STANDARD_GRAVITY
 
 
+@old_param_names
 @dataclass(frozen=True)
 class AdhikaryParams:
     """The scene's parameters (SI units, angles in degrees); defaults are the thesis's base run."""
@@ -62,7 +63,7 @@ class AdhikaryParams:
     edge_seeding: bool = False
     joint_dip: float = 81.0
     joint_spacing: float = 0.010
-    flaw_tensile: float = 1.1e6
+    flaw_tensile_strength: float = 1.1e6
     flaw_cohesion: float = 1.6e6
     flaw_friction: float = 37.0
     flaw_kn: float = 700e9
@@ -131,7 +132,7 @@ def geometry(p: AdhikaryParams) -> GeometrySpec:
 
 
 def materials(p: AdhikaryParams) -> dict:
-    flaw = Material(kn=p.flaw_kn, ks=p.flaw_ks, tensile_strength=p.flaw_tensile,
+    flaw = Material(kn=p.flaw_kn, ks=p.flaw_ks, tensile_strength=p.flaw_tensile_strength,
                     cohesion=p.flaw_cohesion, friction=p.flaw_friction)
     bedding = Material(kn=p.bedding_kn, ks=p.bedding_ks, tensile_strength=p.bedding_tensile,
                        cohesion=p.bedding_cohesion, friction=p.bedding_friction,

@@ -1,5 +1,5 @@
 """Checkerboard Creek slope above the Revelstoke dam: weathering as strength loss (thesis
-chapter 7, CASES.md section 8).
+chapter 7, sections 7.6-7.8, Tables 7.1-7.5).
 
 Geometry (m), x to the right, y the elevation above the model's base, the slope facing +x (the
 reservoir on the right), so joints dipping into the slope are ``dip_direction="left"``. The
@@ -53,7 +53,7 @@ all of them here:
   within two edges of the cut's face: the shotcrete), "slivers" (``sliver_groups``: blocks
   under ``SLIVER`` x edge^2 that a joint trace cuts off at a corner, excavated first).
 
-Materials (Tables 7.1-7.3; CASES.md "Method facts"):
+Materials (thesis Tables 7.1-7.3; flaw stiffness after eq 3.7, section 3.4):
 
 - flaws of each unit: c and friction from Hoek-Brown (Hoek et al. 2002 equivalent Mohr-Coulomb
   over sigma3 up to ``SIGMA3_MAX`` = 12 MPa: **assumption**, the range at which the formula

@@ -1,5 +1,5 @@
 """Buckling of a footwall layer in an open-pit coal mine after Stead & Eberhardt (1997) (thesis
-5.3.2, table 5.4, fig 5.11; CASES.md section 6, first bullet).
+5.3.2, table 5.4, fig 5.11).
 
 Geometry (m), origin at the bottom-left corner, the slope facing +x; the thesis gives the
 height, the slope angle and the layer's thickness; every other dimension is an assumption
@@ -43,12 +43,13 @@ from dem_core.geometry import GeometrySpec, Region, Voronoi, slope_profile
 from dem_core.contact.materials import Material
 from dem_core.workflow.scene import Scene
 
-from . import CENTRIFUGE_BOUNDARIES, CENTRIFUGE_GROUPS
+from . import CENTRIFUGE_BOUNDARIES, CENTRIFUGE_GROUPS, old_param_names
 
 HEIGHT, FACE_DIP = 75.0, 30.0                 # m, degrees (thesis)
 BASAL, FLOOR = "boundary:layer|footwall", "boundary:layer|floor"
 
 
+@old_param_names
 @dataclass(frozen=True)
 class CoalBucklingParams:
     """The scene's parameters (SI units, angles in degrees); defaults are the thesis's run
@@ -62,7 +63,7 @@ class CoalBucklingParams:
     toe_length: float = 30.0
     floor_depth: float = 15.0
     basal_friction: float = 20.0
-    flaw_tensile: float = 30e3
+    flaw_tensile_strength: float = 30e3
     flaw_cohesion: float = 0.3e6
     flaw_friction: float = 25.0
     kn: float = 1e9
@@ -179,7 +180,7 @@ def geometry(p: CoalBucklingParams) -> GeometrySpec:
 
 
 def materials(p: CoalBucklingParams) -> dict:
-    flaw = Material(kn=p.kn, ks=p.ks, tensile_strength=p.flaw_tensile,
+    flaw = Material(kn=p.kn, ks=p.ks, tensile_strength=p.flaw_tensile_strength,
                     cohesion=p.flaw_cohesion, friction=p.flaw_friction,
                     breakable=not p.conventional)
     bed = Material(kn=p.kn, ks=p.ks, friction=p.basal_friction)

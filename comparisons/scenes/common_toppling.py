@@ -1,5 +1,5 @@
 """Common (block-flexural) toppling of an excavated slope, after Nichol et al. (2002) (thesis
-5.2.2, figs 5.6-5.10, tables 5.2 and 5.3; CASES.md section 5).
+5.2.2, figs 5.6-5.10, tables 5.2 and 5.3).
 
 Geometry (m), origin at the bottom-left corner, the slope facing +x (joints dipping into the
 slope are ``dip_direction="left"``). Figure 5.6 is not in the text; what the words give is one
@@ -61,7 +61,7 @@ from dem_core.geometry import (GeometrySpec, JointSet, Region, Voronoi, slope_pr
 from dem_core.contact.materials import Material
 from dem_core.workflow.scene import Scene
 
-from . import CENTRIFUGE_BOUNDARIES, CENTRIFUGE_GROUPS
+from . import CENTRIFUGE_BOUNDARIES, CENTRIFUGE_GROUPS, old_param_names
 
 SLOPE_HEIGHT, FACE_DIP, BASE = 120.0, 60.0, 30.0        # m, deg, m
 CREST_LENGTH, TOE_LENGTH = 80.0, 40.0                   # m
@@ -78,6 +78,7 @@ GRAVITY_STRENGTH = dict(tensile_strength=50e6, cohesion=50e6, friction=45.0)
 SPACINGS = (6.0, 3.0, 1.5)
 
 
+@old_param_names
 @dataclass(frozen=True)
 class ToppleParams:
     """The scene's parameters (SI, degrees); defaults: the 6 m model with table 5.2."""
@@ -90,7 +91,7 @@ class ToppleParams:
     seed: int = 1
     flaw_friction: float = 30.0
     flaw_cohesion: float = 5e6
-    flaw_tensile: float = 1e6
+    flaw_tensile_strength: float = 1e6
     flaw_kn: float = 40e9
     flaw_ks: float = 20e9
     joint_friction: float = 30.0
@@ -106,7 +107,7 @@ class ToppleParams:
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
                 raise ValueError(f"{name} must be a finite number > 0, got {v!r}")
-        for name in ("flaw_cohesion", "flaw_tensile"):
+        for name in ("flaw_cohesion", "flaw_tensile_strength"):
             v = getattr(self, name)
             if not (math.isfinite(v) and 0 <= v <= GRAVITY_STRENGTH[_FIELD[name]]):
                 raise ValueError(f"{name} must be in [0, {GRAVITY_STRENGTH[_FIELD[name]]:g}] "
@@ -129,11 +130,11 @@ class ToppleParams:
 
     def intact_strength(self) -> dict:
         """The study's intact-rock strength as ``Material`` fields (Pa, deg)."""
-        return dict(tensile_strength=self.flaw_tensile, cohesion=self.flaw_cohesion,
+        return dict(tensile_strength=self.flaw_tensile_strength, cohesion=self.flaw_cohesion,
                     friction=self.flaw_friction)
 
 
-_FIELD = {"flaw_cohesion": "cohesion", "flaw_tensile": "tensile_strength"}
+_FIELD = {"flaw_cohesion": "cohesion", "flaw_tensile_strength": "tensile_strength"}
 
 
 def slope_region() -> Region:

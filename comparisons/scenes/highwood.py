@@ -1,5 +1,5 @@
 """Highwood Pass site 1, flexural buckling of beds parallel to a natural slope face (Hu & Cruden
-1993; thesis 5.3.3, table 5.5, CASES.md section 6, second bullet).
+1993; thesis section 5.3.3, table 5.5).
 
 Geometry (m), origin at the bottom-left corner of the model, the slope facing +x, so the beds,
 which dip with the face, are ``dip_direction="right"``:
@@ -63,6 +63,8 @@ from dem_core.workflow.scene import Boundary, Scene
 from dem_core.workflow.stages import ChangeMaterial, Gravity, Solve, StrengthSchedule
 from dem_core.units import STANDARD_GRAVITY
 
+from . import old_param_names
+
 UNIT_WEIGHT = 25e3                      # N/m3
 DENSITY = UNIT_WEIGHT / STANDARD_GRAVITY            # kg/m3
 QUARTZITE = "*:q*"                      # material key of the intact quartzite (docstring)
@@ -74,6 +76,7 @@ GROUPS = {"base": {"touching": "bottom"}, "left side": {"touching": "left"},
 BOUNDARIES = [Boundary("base"), Boundary("sides", x=True, y=False, rotation=False)]
 
 
+@old_param_names
 @dataclass(frozen=True)
 class HighwoodParams:
     """The scene's parameters (SI units, angles in degrees); defaults are the thesis's run
@@ -94,7 +97,7 @@ class HighwoodParams:
     cut_spacing: float = 2.0
     relax_iterations: int = 20
     seed: int = 1
-    flaw_tensile: float = 1.6e6
+    flaw_tensile_strength: float = 1.6e6
     flaw_cohesion: float = 5.0e6
     flaw_friction: float = 30.0
     flaw_kn: float = 400e9
@@ -125,7 +128,7 @@ def _check(p: HighwoodParams):
         v = getattr(p, name)
         if not (math.isfinite(v) and v > 0):
             raise ValueError(f"HighwoodParams.{name} = {v!r} must be finite and > 0")
-    for name in ("flaw_tensile", "flaw_cohesion", "stress_ratio"):
+    for name in ("flaw_tensile_strength", "flaw_cohesion", "stress_ratio"):
         v = getattr(p, name)
         if not (math.isfinite(v) and v >= 0):
             raise ValueError(f"HighwoodParams.{name} = {v!r} must be finite and >= 0")
@@ -256,7 +259,7 @@ def materials(p: HighwoodParams) -> dict:
     """Table 5.5 (module docstring): the quartzite key ``QUARTZITE`` (its flaws, the cuts and
     the boundaries between parts of one bed) and, by exact name, the joints: the limestone's
     sets and every other region boundary (bedding planes)."""
-    flaw = Material(kn=p.flaw_kn, ks=p.flaw_ks, tensile_strength=p.flaw_tensile,
+    flaw = Material(kn=p.flaw_kn, ks=p.flaw_ks, tensile_strength=p.flaw_tensile_strength,
                     cohesion=p.flaw_cohesion, friction=p.flaw_friction,
                     breakable=not p.conventional)     # conventional: intact rock is glued
     joint = Material(kn=p.joint_kn, ks=p.joint_ks, tensile_strength=0.0, cohesion=0.0,
@@ -293,8 +296,9 @@ def stages(p: HighwoodParams, values, refine_to=None, max_steps=20_000, ratio=1e
     points A, M, B moves more than ``failure_displacement`` (m) in it or keeps moving
     (``dem_core.workflow.limit``, watching the points)."""
     top = p.base + p.slope_height
-    strong = {"tensile_strength": STRONG * p.flaw_tensile, "cohesion": STRONG * p.flaw_cohesion}
-    real = {"tensile_strength": p.flaw_tensile, "cohesion": p.flaw_cohesion}
+    strong = {"tensile_strength": STRONG * p.flaw_tensile_strength,
+              "cohesion": STRONG * p.flaw_cohesion}
+    real = {"tensile_strength": p.flaw_tensile_strength, "cohesion": p.flaw_cohesion}
     return [ChangeMaterial(QUARTZITE, strong), Gravity(1.0),
             InSitu.geostatic(DENSITY, p.stress_ratio, surface=top),
             Solve(ratio=ratio, max_steps=init_steps), ChangeMaterial(QUARTZITE, real),

@@ -1,4 +1,5 @@
-"""Lab specimens of thesis chapter 3 (CASES.md section 1): plaster of Paris after Lajtai (1969).
+"""Lab specimens of thesis chapter 3 (sections 3.5-3.8, Table 3.1): plaster of Paris after
+Lajtai (1969).
 
 Three scenes, each a Voronoi specimen ("rock") between rigid loading parts (one block each):
 

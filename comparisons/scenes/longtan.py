@@ -1,5 +1,5 @@
 """Longtan intake slope, block-toppling centrifuge model of Zhang et al. (2006/2007) (thesis 4.3,
-CASES.md section 3).
+tables 4.2 and 4.3).
 
 Geometry (m), origin at the bottom-left corner of the model, the slope facing +x (so the joints
 dipping into the slope are ``dip_direction="left"``, those dipping with the face ``"right"``):
@@ -36,7 +36,7 @@ dipping into the slope are ``dip_direction="left"``, those dipping with the face
   sides (blocks touching x = 0 or x = 0.752 hold x);
 - points A (crest, 5 mm behind the crest edge, 2 mm deep) and B (mid-face, 2 mm inside).
 
-Materials (CASES.md, thesis tables 4.2, 4.3): blocks E 2.0 GPa, nu 0.25, unit weight 23.5
+Materials (thesis section 4.3, tables 4.2, 4.3): blocks E 2.0 GPa, nu 0.25, unit weight 23.5
 kN/m3; flaws kn 600, ks 400 GPa/m, T 4.81 MPa ("tensile strength of the jointed rock"); column
 sides friction 37, cohesion 0 (T 0); column bases friction 0.
 
@@ -76,7 +76,7 @@ from dem_core.workflow.scene import Scene
 from dem_core.workflow.scene import build_model as build_scene_model
 from dem_core.units import STANDARD_GRAVITY
 
-from . import CENTRIFUGE_BOUNDARIES, CENTRIFUGE_GROUPS
+from . import CENTRIFUGE_BOUNDARIES, CENTRIFUGE_GROUPS, old_param_names
 
 WIDTH, SLOPE_HEIGHT, BASE, FACE_DIP = 0.752, 0.40, 0.10, 75.0
 HEIGHT = SLOPE_HEIGHT + BASE
@@ -86,6 +86,7 @@ JOINT_DIP = 60.0                 # both sets, degrees
 INTACT_COHESION = 1.58e6         # 0.474 / (1 - 0.7) = 0.316 / (1 - 0.8), Pa
 
 
+@old_param_names
 @dataclass(frozen=True)
 class LongtanParams:
     """The scene's parameters (SI units, angles in degrees); defaults are the thesis's run."""
@@ -98,7 +99,7 @@ class LongtanParams:
     cross_spacing: float = 0.100
     persistence_toe: float = 0.8
     persistence: float = 0.7
-    flaw_tensile: float = 4.81e6
+    flaw_tensile_strength: float = 4.81e6
     flaw_cohesion: float = INTACT_COHESION
     flaw_friction: float = 0.0
     flaw_kn: float = 600e9
@@ -229,7 +230,7 @@ def geometry(p: LongtanParams) -> GeometrySpec:
 
 
 def materials(p: LongtanParams) -> dict:
-    flaw = Material(kn=p.flaw_kn, ks=p.flaw_ks, tensile_strength=p.flaw_tensile,
+    flaw = Material(kn=p.flaw_kn, ks=p.flaw_ks, tensile_strength=p.flaw_tensile_strength,
                     cohesion=p.flaw_cohesion, friction=p.flaw_friction,
                     breakable=not p.conventional)     # conventional: intact rock is glued
     side = Material(kn=p.flaw_kn, ks=p.flaw_ks, tensile_strength=0.0, cohesion=0.0,

@@ -1,5 +1,5 @@
 """Highland Valley Copper, Lornex pit south-east wall: block toppling under 15 mining blocks
-(thesis chapter 6, CASES.md section 7).
+(thesis chapter 6, sections 6.4-6.8, Tables 6.1-6.5).
 
 Geometry (m), x to the right, y the elevation (m above sea level), the slope facing +x (so the
 faults dipping into the slope are ``dip_direction="left"``, the secondary joints dipping out

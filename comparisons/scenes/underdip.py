@@ -1,5 +1,5 @@
 """Underdip toppling of a bedded sandstone slope after Cruden & Hu (1994) (thesis 5.2.1, table
-5.1, figs 5.3-5.5; CASES.md section 4).
+5.1, figs 5.3-5.5).
 
 Geometry (m), origin at the bottom-left corner, the slope facing +x; every assumption the
 thesis's figure 5.3 forces (it gives only the height and the two dips) is stated here:
@@ -58,12 +58,13 @@ from dem_core.geometry import zone_polygon_along_face
 from dem_core.contact.materials import Material
 from dem_core.workflow.scene import Scene
 
-from . import CENTRIFUGE_BOUNDARIES, CENTRIFUGE_GROUPS
+from . import CENTRIFUGE_BOUNDARIES, CENTRIFUGE_GROUPS, old_param_names
 
 HEIGHT, FACE_DIP, BED_DIP = 75.0, 61.0, 80.0      # m, degrees, degrees (thesis)
 INTERFACE = "boundary:zone|rock"                # the zone of flaws against the rock behind it
 
 
+@old_param_names
 @dataclass(frozen=True)
 class UnderdipParams:
     """The scene's parameters (SI units, angles in degrees); defaults are the thesis's run
@@ -79,7 +80,7 @@ class UnderdipParams:
     crest_length: float = 45.0
     toe_length: float = 20.0
     bed_friction: float = 25.0
-    flaw_tensile: float = 60e3
+    flaw_tensile_strength: float = 60e3
     flaw_cohesion: float = 0.6e6
     flaw_friction: float = 30.0
     kn: float = 1e9
@@ -181,7 +182,7 @@ def geometry(p: UnderdipParams) -> GeometrySpec:
 
 
 def materials(p: UnderdipParams) -> dict:
-    flaw = Material(kn=p.kn, ks=p.ks, tensile_strength=p.flaw_tensile,
+    flaw = Material(kn=p.kn, ks=p.ks, tensile_strength=p.flaw_tensile_strength,
                     cohesion=p.flaw_cohesion, friction=p.flaw_friction,
                     breakable=not p.conventional)
     bed = Material(kn=p.kn, ks=p.ks, friction=p.bed_friction)

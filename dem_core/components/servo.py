@@ -7,7 +7,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-__all__ = ["Servo", "servo_bundle", "servo_velocities"]
+__all__ = ["Servo", "servo_bundle", "servo_row", "servo_velocities"]
 
 
 class Servo(NamedTuple):
@@ -27,6 +27,25 @@ def servo_bundle(groups) -> Servo:
     offs = np.concatenate([[0], np.cumsum([len(g) for g, _ in groups])]).astype(np.int64)
     blocks = np.concatenate([g for g, _ in groups]).astype(np.int64)
     return Servo(offs, blocks, np.array([prm for _, prm in groups], dtype=np.float64))
+
+
+def servo_row(contacts, idx, force, direction, gain, v_max, dt):
+    """(params row (5,), fixity bits) of a servo on blocks ``idx`` keeping ``force`` (N/m)
+    along ``direction``; the default ``gain`` moves the group by 1/10 of the force error's
+    elastic displacement per step of ``dt`` (the stiffness of the contacts it feels)."""
+    from ..step.state import FIX_ROT, FIX_X, FIX_Y
+
+    d = np.asarray(direction, dtype=np.float64)
+    d = d / np.hypot(*d)
+    if not (np.isfinite(force) and force >= 0):
+        raise ValueError(f"servo force must be finite and >= 0 N/m, got {force!r}")
+    c = contacts
+    ing = np.isin(c.block_a[:c.n], idx) ^ np.isin(c.block_b[:c.n], idx)
+    k = float((c.kn[:c.n][ing] * c.length[:c.n][ing]).sum()) or 1.0
+    gain = 0.1 / (k * dt) if gain is None else float(gain)
+    v_max = np.inf if v_max is None else float(v_max)
+    bits = (FIX_X if abs(d[0]) > 0 else 0) | (FIX_Y if abs(d[1]) > 0 else 0) | FIX_ROT
+    return np.array([d[0], d[1], force, gain, v_max]), bits
 
 
 @njit(cache=True)

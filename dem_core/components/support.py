@@ -27,7 +27,7 @@ import shapely
 from .cables import GROUT_SLIP, LINER_BOND, RUPTURE, YIELD, Cables, no_cables
 from .liner import no_liners
 
-__all__ = ["Cable", "Liner", "install", "support_stiffness", "set_node_masses",
+__all__ = ["Cable", "Liner", "installed", "has_nodes", "support_stiffness", "set_node_masses",
            "support_log", "no_cables", "no_liners", "decay_length"]
 
 
@@ -162,29 +162,32 @@ def decay_length(area, E, grout_stiffness) -> float:
 
 # ---------------------------------------------------------------- installing
 def _install_stage(model, item, bundle, ids):
-    """A "cable" or "liner" stage: install, report the new element's node count."""
-    install(model, item)
+    """A "cable" or "liner" stage: install (``Model.install``), report the new element's node
+    count."""
+    model.install(item)
     element = getattr(getattr(model, bundle), ids)
     return 0, "installed", {"nodes": int((element == element.max()).sum())}
 
 
-def install(model, items):
-    """Install a ``Cable`` or ``Liner`` (or a list of them: one search of the blocks for all)
-    on ``model`` in its present pose (stress-free, except a cable's pretension); the time step
-    is recomputed."""
+def installed(model, items) -> tuple:
+    """(cables, liners): the model's support bundles with a ``Cable`` or ``Liner`` (or a list
+    of them: one search of the blocks for all) added in the model's present pose
+    (stress-free, except a cable's pretension). The model is only read: ``Model.install``
+    keeps the bundles and recomputes the time step."""
     items = list(items) if isinstance(items, (list, tuple)) else [items]
     for item in items:
         if not isinstance(item, (Cable, Liner)):
             raise ValueError(f"install takes Cables and Liners, got {type(item).__name__}")
         item.check(groups=set(model.blocks.groups))
     tree = None
+    cables, liners = model.cables, model.liners
     for item in items:
         if isinstance(item, Cable):
             tree = tree or _block_tree(model)
-            model.cables = _join(model.cables, _cable_arrays(model, item, tree))
+            cables = _join(cables, _cable_arrays(model, item, tree))
         else:
-            model.liners = _join(model.liners, _liner_arrays(model, item))
-    model._update_timestep()
+            liners = _join(liners, _liner_arrays(model, item))
+    return cables, liners
 
 
 def _join(bundle, new: dict):
@@ -242,8 +245,9 @@ def _body(model, host, xy):
     """World points ``xy`` in their host blocks' body frames."""
     s = model.state
     d = xy - s.pos[host]
-    c, sn = s.rot[host, 0], s.rot[host, 1]
-    return np.column_stack([c * d[:, 0] + sn * d[:, 1], -sn * d[:, 0] + c * d[:, 1]])
+    cos_t, sin_t = s.rot[host, 0], s.rot[host, 1]
+    return np.column_stack([cos_t * d[:, 0] + sin_t * d[:, 1],
+                            -sin_t * d[:, 0] + cos_t * d[:, 1]])
 
 
 # how far along a cable (fraction of its length) a collar or end in a gap moves into rock
@@ -411,17 +415,16 @@ def _chain(fb, f0, f1, centroid, group):
 
 
 # ---------------------------------------------------------------- time step
-def has_nodes(model) -> bool:
-    """Whether the model has any cable or liner."""
-    return model.cables.node_pos.shape[0] + model.liners.node_pos.shape[0] > 0
+def has_nodes(cb, ln) -> bool:
+    """Whether there is any cable (``cb``, a Cables bundle) or liner (``ln``, Liners)."""
+    return cb.node_pos.shape[0] + ln.node_pos.shape[0] > 0
 
 
-def support_stiffness(model):
-    """(kt, kr) per block, N/m and N m: the grout and bond springs acting on each block, for
-    the blocks' frequency bound (``step.frequency_bound``: omega^2 <= 2 (kt/m + kr/I))."""
-    nb = model.n_blocks
+def support_stiffness(cb, ln, nb):
+    """(kt, kr) per block (``nb`` blocks), N/m and N m: the grout and bond springs of the
+    cables ``cb`` and liners ``ln`` acting on each block, for the blocks' frequency bound
+    (``step.run.frequency_bound``: omega^2 <= 2 (kt/m + kr/I))."""
     kt, kr = np.zeros(nb), np.zeros(nb)
-    cb, ln = model.cables, model.liners
     for host, local, k, k_turn in ((cb.node_host, cb.node_local, 2.0 * cb.grout_k, 0.0),
                                    (ln.bond_host, ln.bond_local, ln.bond_kn + ln.bond_ks,
                                     ln.bond_kr)):
@@ -431,12 +434,11 @@ def support_stiffness(model):
     return kt, kr
 
 
-def set_node_masses(model, w2max: float):
+def set_node_masses(cb, ln, w2max: float):
     """Inertial masses of the support nodes: each node's Gershgorin bound 2 k / m equals the
     blocks' largest omega^2 (``w2max``), so the nodes never set the time step. A liner node's
     moment of inertia is m l^2 (l its shorter element), which bounds its rotation the same
     way."""
-    cb, ln = model.cables, model.liners
     if cb.node_pos.shape[0]:
         k = 2.0 * cb.grout_k.copy()
         np.add.at(k, cb.seg_a, 3.0 * cb.seg_k)
@@ -459,23 +461,23 @@ def set_node_masses(model, w2max: float):
         ln.node_inv_inertia[:] = 1.0 / inertia
 
 
-def set_controls(model):
-    """The support bundles' clock, dt, damping and gravity for the next run of steps."""
-    for b in (model.cables, model.liners):
-        b.control[0], b.control[1], b.control[2] = model.dt, model.damping, model.time
-    model.liners.control[3:5] = model.gravity
+def set_controls(cb, ln, dt, damping, time, gravity):
+    """The support bundles' clock: dt (s), damping, time (s) and gravity (m/s^2) for the next
+    run of steps."""
+    for b in (cb, ln):
+        b.control[0], b.control[1], b.control[2] = dt, damping, time
+    ln.control[3:5] = gravity
 
 
-def unbalanced(model):
+def unbalanced(cb, ln, gravity):
     """(sum |unbalanced force|, sum of the forces acting) over the support nodes, N/m: their
     part of the model's unbalanced ratio (``monitor.unbalanced_ratio``)."""
-    cb, ln = model.cables, model.liners
     num = float(np.hypot(*cb.node_force.T).sum()) + float(np.hypot(*ln.node_force[:, :2].T).sum())
     shear = np.abs(ln.el_force[:, 1] + ln.el_force[:, 2]) / ln.el_length0
     den = (2.0 * float(np.abs(cb.seg_force).sum()) + float(np.abs(cb.grout_force).sum())
            + 2.0 * float((np.abs(ln.el_force[:, 0]) + shear).sum())
            + float(np.hypot(*ln.bond_force[:, :2].T).sum())
-           + float(ln.node_mass.sum()) * float(np.hypot(*model.gravity)))
+           + float(ln.node_mass.sum()) * float(np.hypot(*gravity)))
     return num, den
 
 

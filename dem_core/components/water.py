@@ -124,7 +124,8 @@ def _uncovered(p, q, e0, e1, tol):
 @njit(cache=True, inline="always")
 def _height(surface, x):
     """Height of the polyline ``surface`` above x (flat beyond its ends); a scan, as a water
-    table has few points (``np.interp`` costs about 0.2 us a call here)."""
+    table has few points (cheaper than a call of ``np.interp`` here: docs/performance.md,
+    "Support elements")."""
     m = surface.shape[0]
     if x <= surface[0, 0]:
         return surface[0, 1]

@@ -1,5 +1,5 @@
 """Where a contact acts on a deformable block's boundary, and how the zones' displacement
-moves its points (issue 24 item 2; the zones and their coupling: ``deformable.py``).
+moves its points (deformable blocks; the zones and their coupling: ``deformable/component.py``).
 
 Where a contact acts on a block's boundary. Each polygon face of a deformable block is split
 by the zone mesher (``zone_mesh.mesh_polygons``) into ceil(L / h) equal boundary segments, so
@@ -36,25 +36,26 @@ __all__ = ["deformed_points", "rest_points", "contact_sides", "spread"]
 
 
 @njit(cache=True, inline="always")
-def _face_param(d, e, px, py):
+def _face_param(zones, e, px, py):
     """Where body point (px, py) projects on face ``e`` (from vertex e to the next vertex of
     its block), in segments from the face's start, clamped to [0, segments]."""
-    e0, e1 = d.edge_offsets[e], d.edge_offsets[e + 1]
-    g0, g1 = d.edge_points[e0], d.edge_points[e1 - 1]
-    ex, ey = d.x0[g1, 0] - d.x0[g0, 0], d.x0[g1, 1] - d.x0[g0, 1]
-    t = ((px - d.x0[g0, 0]) * ex + (py - d.x0[g0, 1]) * ey) / (ex * ex + ey * ey)
+    e0, e1 = zones.edge_offsets[e], zones.edge_offsets[e + 1]
+    g0, g1 = zones.edge_points[e0], zones.edge_points[e1 - 1]
+    ex, ey = zones.x0[g1, 0] - zones.x0[g0, 0], zones.x0[g1, 1] - zones.x0[g0, 1]
+    t = ((px - zones.x0[g0, 0]) * ex + (py - zones.x0[g0, 1]) * ey) / (ex * ex + ey * ey)
     return min(max(t, 0.0), 1.0) * (e1 - e0 - 1)
 
 
 @njit(cache=True, inline="always")
-def _nearest_face(d, blk, px, py):
+def _nearest_face(zones, blk, px, py):
     """The face of deformable block ``blk`` (its first vertex's index) nearest to its body
     point (px, py)."""
     best, face = np.inf, -1
-    for e in range(d.block_vertices[blk], d.block_vertices[blk + 1]):
-        g0, g1 = d.edge_points[d.edge_offsets[e]], d.edge_points[d.edge_offsets[e + 1] - 1]
-        ex, ey = d.x0[g1, 0] - d.x0[g0, 0], d.x0[g1, 1] - d.x0[g0, 1]
-        rx, ry = px - d.x0[g0, 0], py - d.x0[g0, 1]
+    for e in range(zones.block_vertices[blk], zones.block_vertices[blk + 1]):
+        g0, g1 = (zones.edge_points[zones.edge_offsets[e]],
+                  zones.edge_points[zones.edge_offsets[e + 1] - 1])
+        ex, ey = zones.x0[g1, 0] - zones.x0[g0, 0], zones.x0[g1, 1] - zones.x0[g0, 1]
+        rx, ry = px - zones.x0[g0, 0], py - zones.x0[g0, 1]
         t = min(max((rx * ex + ry * ey) / (ex * ex + ey * ey), 0.0), 1.0)
         dx, dy = rx - t * ex, ry - t * ey
         if dx * dx + dy * dy < best:
@@ -63,18 +64,19 @@ def _nearest_face(d, blk, px, py):
 
 
 @njit(cache=True, inline="always")
-def _face_direction(d, blk, e, toward_end):
+def _face_direction(zones, blk, e, toward_end):
     """Unit direction (block frame) along face e of block ``blk``: from its start to its end
     (``toward_end``) or back."""
-    f = e + 1 if e + 1 < d.block_vertices[blk + 1] else d.block_vertices[blk]
-    ex, ey = d.vertices[f, 0] - d.vertices[e, 0], d.vertices[f, 1] - d.vertices[e, 1]
+    f = e + 1 if e + 1 < zones.block_vertices[blk + 1] else zones.block_vertices[blk]
+    ex, ey = (zones.vertices[f, 0] - zones.vertices[e, 0],
+              zones.vertices[f, 1] - zones.vertices[e, 1])
     ln = np.hypot(ex, ey)
     sign = 1.0 if toward_end else -1.0
     return sign * ex / ln, sign * ey / ln
 
 
 @njit(cache=True, inline="always")
-def _patch_direction(d, k, c, s):
+def _patch_direction(zones, k, c, s):
     """The direction (A's frame, then B's frame) in which contact k's length runs from its
     point, and whether it has one: a face contact anchored at a vertex covers its length
     along the face from that vertex (the half of a shared edge next to it: module
@@ -85,68 +87,74 @@ def _patch_direction(d, k, c, s):
         return 0.0, 0.0, 0.0, 0.0, False
     if anchor == ANCHOR_A:
         v = c.vertex_a[k]
-        v0, v1 = d.block_vertices[a], d.block_vertices[a + 1]
+        v0, v1 = zones.block_vertices[a], zones.block_vertices[a + 1]
         prev = v - 1 if v > v0 else v1 - 1
         # of A's two faces at the vertex, the one whose outward normal is normal_b
         nxt = v + 1 if v + 1 < v1 else v0
-        ex, ey = d.vertices[nxt, 0] - d.vertices[v, 0], d.vertices[nxt, 1] - d.vertices[v, 1]
-        px, py = d.vertices[v, 0] - d.vertices[prev, 0], d.vertices[v, 1] - d.vertices[prev, 1]
+        ex, ey = (zones.vertices[nxt, 0] - zones.vertices[v, 0],
+                  zones.vertices[nxt, 1] - zones.vertices[v, 1])
+        px, py = (zones.vertices[v, 0] - zones.vertices[prev, 0],
+                  zones.vertices[v, 1] - zones.vertices[prev, 1])
         along_next = (ey * c.normal_b[k, 0] - ex * c.normal_b[k, 1]) / np.hypot(ex, ey)
         along_prev = (py * c.normal_b[k, 0] - px * c.normal_b[k, 1]) / np.hypot(px, py)
         if along_next >= along_prev:
-            dax, day = _face_direction(d, a, v, True)
+            dax, day = _face_direction(zones, a, v, True)
         else:
-            dax, day = _face_direction(d, a, prev, False)
+            dax, day = _face_direction(zones, a, prev, False)
         wx, wy = rotate(s.rot, a, dax, day)
         dbx, dby = unrotate(s.rot, b, wx, wy)
         return dax, day, dbx, dby, True
     e = c.edge_b[k]                         # ANCHOR_B: B's vertex at an end of face e
     if e < 0:
         return 0.0, 0.0, 0.0, 0.0, False
-    f = e + 1 if e + 1 < d.block_vertices[b + 1] else d.block_vertices[b]
-    de = (c.point_b[k, 0] - d.vertices[e, 0]) ** 2 + (c.point_b[k, 1] - d.vertices[e, 1]) ** 2
-    df = (c.point_b[k, 0] - d.vertices[f, 0]) ** 2 + (c.point_b[k, 1] - d.vertices[f, 1]) ** 2
-    dbx, dby = _face_direction(d, b, e, de <= df)
+    f = e + 1 if e + 1 < zones.block_vertices[b + 1] else zones.block_vertices[b]
+    de = ((c.point_b[k, 0] - zones.vertices[e, 0]) ** 2
+          + (c.point_b[k, 1] - zones.vertices[e, 1]) ** 2)
+    df = ((c.point_b[k, 0] - zones.vertices[f, 0]) ** 2
+          + (c.point_b[k, 1] - zones.vertices[f, 1]) ** 2)
+    dbx, dby = _face_direction(zones, b, e, de <= df)
     wx, wy = rotate(s.rot, b, dbx, dby)
     dax, day = unrotate(s.rot, a, wx, wy)
     return dax, day, dbx, dby, True
 
 
 @njit(cache=True, inline="always")
-def _side(d, blk, face, px, py, dx, dy, length, patch):
+def _side(zones, blk, face, px, py, dx, dy, length, patch):
     """(face, q0, q1): the stretch of a deformable block's boundary a contact point (px, py)
     acts on, in segments along ``face`` (-1: the nearest face), from the point to
     point + length (dx, dy) (a patch) or q0 = q1 (a point); face -1 for a rigid block."""
-    if d.edge_offsets[d.block_vertices[blk]] == d.edge_offsets[d.block_vertices[blk] + 1]:
+    if (zones.edge_offsets[zones.block_vertices[blk]]
+        == zones.edge_offsets[zones.block_vertices[blk] + 1]):
         return -1, 0.0, 0.0
     if face < 0:
-        face = _nearest_face(d, blk, px, py)
-    q0 = _face_param(d, face, px, py)
+        face = _nearest_face(zones, blk, px, py)
+    q0 = _face_param(zones, face, px, py)
     if not patch:
         return face, q0, q0
-    q1 = _face_param(d, face, px + length * dx, py + length * dy)
+    q1 = _face_param(zones, face, px + length * dx, py + length * dy)
     return face, min(q0, q1), max(q0, q1)
 
 
 @njit(cache=True, inline="always")
-def contact_sides(d, k, c, s):
+def contact_sides(zones, k, c, s):
     """(face, q0, q1) of contact k's A side, then of its B side (``_side``): A's vertex
     face for a contact anchored at A's vertex, B's face ``edge_b``, else the nearest."""
-    dax, day, dbx, dby, patch = _patch_direction(d, k, c, s)
+    dax, day, dbx, dby, patch = _patch_direction(zones, k, c, s)
     a, b = c.block_a[k], c.block_b[k]
     L = c.length[k]
     fa = -1
     if c.anchor[k] == ANCHOR_A and c.vertex_a[k] >= 0:
         v = c.vertex_a[k]                   # the vertex: the face that starts or ends there
         if patch:
-            v0, v1 = d.block_vertices[a], d.block_vertices[a + 1]
+            v0, v1 = zones.block_vertices[a], zones.block_vertices[a + 1]
             nxt = v + 1 if v + 1 < v1 else v0
-            ex, ey = d.vertices[nxt, 0] - d.vertices[v, 0], d.vertices[nxt, 1] - d.vertices[v, 1]
+            ex, ey = (zones.vertices[nxt, 0] - zones.vertices[v, 0],
+                      zones.vertices[nxt, 1] - zones.vertices[v, 1])
             fa = v if ex * dax + ey * day > 0.0 else (v - 1 if v > v0 else v1 - 1)
         else:
             fa = v
-    ea, qa0, qa1 = _side(d, a, fa, c.point_a[k, 0], c.point_a[k, 1], dax, day, L, patch)
-    eb, qb0, qb1 = _side(d, b, c.edge_b[k], c.point_b[k, 0], c.point_b[k, 1], dbx, dby, L,
+    ea, qa0, qa1 = _side(zones, a, fa, c.point_a[k, 0], c.point_a[k, 1], dax, day, L, patch)
+    eb, qb0, qb1 = _side(zones, b, c.edge_b[k], c.point_b[k, 0], c.point_b[k, 1], dbx, dby, L,
                          patch)
     return ea, qa0, qa1, eb, qb0, qb1
 
@@ -168,10 +176,10 @@ POINT = 1e-9
 
 
 @njit(cache=True, inline="always")
-def _stretch(d, e, q0, q1):
+def _stretch(zones, e, q0, q1):
     """(first segment, last + 1, point): the segments of face e that [q0, q1] touches; a
     point (q1 - q0 < POINT) has one segment."""
-    nseg = d.edge_offsets[e + 1] - d.edge_offsets[e] - 1
+    nseg = zones.edge_offsets[e + 1] - zones.edge_offsets[e] - 1
     s0 = min(int(q0), nseg - 1)
     if q1 - q0 < POINT:
         return s0, s0 + 1, True
@@ -186,28 +194,30 @@ def _share(q0, q1, seg, point):
 
 
 @njit(cache=True, inline="always")
-def _patch_u(d, e, q0, q1):
+def _patch_u(zones, e, q0, q1):
     """Mean displacement (block axes, m) over [q0, q1] of face e (0 for e < 0)."""
     if e < 0:
         return 0.0, 0.0
     ux, uy = 0.0, 0.0
-    s0, s1, point = _stretch(d, e, q0, q1)
+    s0, s1, point = _stretch(zones, e, q0, q1)
     for seg in range(s0, s1):
         wi, wj = _share(q0, q1, seg, point)
-        i, j = d.edge_points[d.edge_offsets[e] + seg], d.edge_points[d.edge_offsets[e] + seg + 1]
-        ux += wi * (d.x[i, 0] - d.x0[i, 0]) + wj * (d.x[j, 0] - d.x0[j, 0])
-        uy += wi * (d.x[i, 1] - d.x0[i, 1]) + wj * (d.x[j, 1] - d.x0[j, 1])
+        i, j = (zones.edge_points[zones.edge_offsets[e] + seg],
+                zones.edge_points[zones.edge_offsets[e] + seg + 1])
+        ux += wi * (zones.x[i, 0] - zones.x0[i, 0]) + wj * (zones.x[j, 0] - zones.x0[j, 0])
+        uy += wi * (zones.x[i, 1] - zones.x0[i, 1]) + wj * (zones.x[j, 1] - zones.x0[j, 1])
     return ux, uy
 
 
 @njit(cache=True, inline="always")
-def spread(out, d, e, q0, q1, fx, fy, scale):
+def spread(out, zones, e, q0, q1, fx, fy, scale):
     """Spread (fx, fy) (block axes) over [q0, q1] of face e into ``out`` (x scale), with the
     weights of ``_patch_u`` (the same virtual work)."""
-    s0, s1, point = _stretch(d, e, q0, q1)
+    s0, s1, point = _stretch(zones, e, q0, q1)
     for seg in range(s0, s1):
         wi, wj = _share(q0, q1, seg, point)
-        i, j = d.edge_points[d.edge_offsets[e] + seg], d.edge_points[d.edge_offsets[e] + seg + 1]
+        i, j = (zones.edge_points[zones.edge_offsets[e] + seg],
+                zones.edge_points[zones.edge_offsets[e] + seg + 1])
         out[i, 0] += scale * wi * fx
         out[i, 1] += scale * wi * fy
         out[j, 0] += scale * wj * fx
@@ -215,13 +225,13 @@ def spread(out, d, e, q0, q1, fx, fy, scale):
 
 
 @njit(cache=True, inline="always")
-def deformed_points(k, c, s, d):
+def deformed_points(k, c, s, zones):
     """(xa, ya, xb, yb): world points (m) of contact k's two points on deformed blocks,
     x = pos + R (p + u) with u the mean displacement over the stretch of boundary the
     contact acts on (module docstring)."""
-    ea, qa0, qa1, eb, qb0, qb1 = contact_sides(d, k, c, s)
-    uax, uay = _patch_u(d, ea, qa0, qa1)
-    ubx, uby = _patch_u(d, eb, qb0, qb1)
+    ea, qa0, qa1, eb, qb0, qb1 = contact_sides(zones, k, c, s)
+    uax, uay = _patch_u(zones, ea, qa0, qa1)
+    ubx, uby = _patch_u(zones, eb, qb0, qb1)
     xa, ya = body_point(s.pos, s.rot, c.block_a[k], c.point_a[k, 0] + uax,
                         c.point_a[k, 1] + uay)
     xb, yb = body_point(s.pos, s.rot, c.block_b[k], c.point_b[k, 0] + ubx,
@@ -230,15 +240,15 @@ def deformed_points(k, c, s, d):
 
 
 @njit(cache=True, inline="always")
-def rest_points(k, c, s, d):
+def rest_points(k, c, s, zones):
     """After ``forces._reanchor`` put contact k's free point(s) at a deformed place, take the
     displacement there off, so ``point_a`` and ``point_b`` are again rest (body) points."""
-    ea, qa0, qa1, eb, qb0, qb1 = contact_sides(d, k, c, s)
+    ea, qa0, qa1, eb, qb0, qb1 = contact_sides(zones, k, c, s)
     if c.anchor[k] != ANCHOR_A:
-        ux, uy = _patch_u(d, ea, qa0, qa1)
+        ux, uy = _patch_u(zones, ea, qa0, qa1)
         c.point_a[k, 0] -= ux
         c.point_a[k, 1] -= uy
     if c.anchor[k] != ANCHOR_B:
-        ux, uy = _patch_u(d, eb, qb0, qb1)
+        ux, uy = _patch_u(zones, eb, qb0, qb1)
         c.point_b[k, 0] -= ux
         c.point_b[k, 1] -= uy

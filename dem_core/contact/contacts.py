@@ -161,9 +161,10 @@ class Contacts(NamedTuple):
     def position(self, pos, rot) -> np.ndarray:
         """(n, 2) world position of each contact point (the vertex of A), m."""
         a = self.block_a[:self.n]
-        c, s = rot[a, 0], rot[a, 1]
+        cos_a, sin_a = rot[a, 0], rot[a, 1]
         p = self.point_a[:self.n]
-        return pos[a] + np.column_stack([c * p[:, 0] - s * p[:, 1], s * p[:, 0] + c * p[:, 1]])
+        return pos[a] + np.column_stack([cos_a * p[:, 0] - sin_a * p[:, 1],
+                                         sin_a * p[:, 0] + cos_a * p[:, 1]])
 
     def normal(self, s, rnd=None) -> np.ndarray:
         """(n, 2) world unit normal of each contact from A into B at the pose ``s``

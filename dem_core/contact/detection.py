@@ -54,7 +54,7 @@ def world_vertices(pos, rot, offsets, local):
 
 
 @njit(cache=True)
-def _displacements(c, s, rows, rnd, dfm):
+def _displacements(c, s, rows, rnd, zones):
     un = np.empty(rows.shape[0])
     us = np.empty(rows.shape[0])
     for i in range(rows.shape[0]):
@@ -65,27 +65,27 @@ def _displacements(c, s, rows, rnd, dfm):
             xa, ya, nx, ny, gap = rounded_contact(rnd, s, a, b, c.vertex_a[k], c.edge_b[k])
             un[i] = gap
         else:
-            if dfm is None:                # rigid blocks (numba drops the branch below)
+            if zones is None:                # rigid blocks (numba drops the branch below)
                 xa, ya = body_point(s.pos, s.rot, a, c.point_a[k, 0], c.point_a[k, 1])
             else:                          # points moved by the zones (forces.contact_update)
-                xa, ya, xb, yb = deformed_points(k, c, s, dfm)
+                xa, ya, xb, yb = deformed_points(k, c, s, zones)
             nx, ny = contact_normal(s, a, b, c.face[k], c.normal_b[k, 0], c.normal_b[k, 1])
             un[i] = (xb - xa) * nx + (yb - ya) * ny
         us[i] = (yb - ya) * nx - (xb - xa) * ny
     return un, us
 
 
-def displacements(c: Contacts, s, rows, rnd=None, dfm=None):
+def displacements(c: Contacts, s, rows, rnd=None, zones=None):
     """(u_n, u_s) of contacts ``rows`` at the pose ``s`` (m; ``contacts.py`` geometry; with
-    rounded corners ``rnd``, ``rounding.py``; with deformable blocks ``dfm``, the points the
-    zones have moved, ``components/deformable.py``), as ``forces.contact_update`` sees them.
-    Without deformable blocks the kernel is called with ``dfm=None``, a signature of its own
-    that leaves the deformed points out (a rigid scene's first search compiles in about 4 s
-    instead of 14 s)."""
+    rounded corners ``rnd``, ``rounding.py``; with deformable blocks ``zones``, the points the
+    zones have moved, ``deformable/component.py``), as ``forces.contact_update`` sees them.
+    Without deformable blocks the kernel is called with ``zones=None``, a signature of its own
+    that leaves the deformed points out (a rigid scene's first search compiles several times
+    faster: docs/performance.md, "The serial kernel and numba's pipelines")."""
     rnd = no_rounding() if rnd is None else rnd
-    if dfm is not None and dfm.point_offsets.shape[0] == 0:
-        dfm = None
-    return _displacements(c, s, np.asarray(rows, dtype=np.int64), rnd, dfm)
+    if zones is not None and zones.point_offsets.shape[0] == 0:
+        zones = None
+    return _displacements(c, s, np.asarray(rows, dtype=np.int64), rnd, zones)
 
 
 @njit(cache=True)
@@ -427,14 +427,16 @@ def _new_rows(p, s, cand, wv):
     t = el / ln[:, None]
     normal_b = np.column_stack([-t[:, 1], t[:, 0]])   # inward normal = A -> B direction
     th = s.theta[B]
-    c, sn = np.cos(th), np.sin(th)
+    cos_b, sin_b = np.cos(th), np.sin(th)
     rel = wv[v] - s.pos[B]
-    vb = np.column_stack([c * rel[:, 0] + sn * rel[:, 1], -sn * rel[:, 0] + c * rel[:, 1]])
+    vb = np.column_stack([cos_b * rel[:, 0] + sin_b * rel[:, 1],
+                          -sin_b * rel[:, 0] + cos_b * rel[:, 1]])
     point_b = local[e] + ((vb - local[e]) * t).sum(axis=1)[:, None] * t   # projection
     # length: half of A's two edges at the vertex, projected on B's edge
     prev = np.where(v - 1 >= off[A], v - 1, off[A + 1] - 1)
     nxt = np.where(v + 1 < off[A + 1], v + 1, off[A])
-    ta = np.column_stack([c * t[:, 0] - sn * t[:, 1], sn * t[:, 0] + c * t[:, 1]])  # world
+    ta = np.column_stack([cos_b * t[:, 0] - sin_b * t[:, 1],
+                          sin_b * t[:, 0] + cos_b * t[:, 1]])  # world
     e1, e2 = wv[nxt] - wv[v], wv[prev] - wv[v]
     l1, l2 = np.hypot(*e1.T), np.hypot(*e2.T)
     L = 0.5 * (np.abs((e1 * ta).sum(axis=1)) + np.abs((e2 * ta).sum(axis=1)))

@@ -19,6 +19,12 @@ turns this on (pairs in ``Contacts.partner``); off, every contact is its own spr
 then turns under a moment M with the rotational stiffness kn L^3/12 and fails (an end reaches
 T) at M = T L^2/6, the elastic values; lumped end forces alone give kn L^3/4 and T L^2/2
 (three times too stiff and too strong in bending).
+
+Source: the edge is the linear (two-node per side, zero-thickness) joint element of R. E.
+Goodman, R. L. Taylor and T. L. Brekke (1968), "A model for the mechanics of jointed rock",
+Journal of the Soil Mechanics and Foundations Division, ASCE 94 (SM3), 637-659: normal and
+shear springs per unit length between the two faces, the relative displacement interpolated
+linearly along the edge, and consistent (not lumped) end forces.
 """
 from __future__ import annotations
 
@@ -40,13 +46,13 @@ __all__ = ["add_contact_forces", "chunk_forces", "contact_update", "log_crack",
 
 
 @njit(cache=True, inline="always")
-def contact_update(k, c, strength, s, rnd, dfm):
+def contact_update(k, c, strength, s, rnd, zones):
     """Contact k of ``c`` (Contacts) at the blocks' pose ``s`` (BlockState): updates its
     displacements and stresses and returns (fx, fy, xa, ya, event): the force on B (N/m; minus
     it on A), the point it acts at (m: A's vertex, or midway between the two faces' points of
     a face contact; with rounded corners ``rnd``, the point of A's arc) and the law's event
-    (1 tension failure, 2 shear failure, 3 slip, 4 open). ``dfm``: the deformable blocks'
-    zones (``components.deformable``; empty: every block rigid, the points are body points),
+    (1 tension failure, 2 shear failure, 3 slip, 4 open). ``zones``: the deformable blocks'
+    zones (``deformable.component``; empty: every block rigid, the points are body points),
     whose displacement moves the points. Shared by the serial kernel below and the threaded
     one (``parallel.py``), so both compute the same numbers."""
     a = c.block_a[k]
@@ -57,10 +63,10 @@ def contact_update(k, c, strength, s, rnd, dfm):
         xa, ya, nx, ny, u_n = rounded_contact(rnd, s, a, b, c.vertex_a[k], c.edge_b[k])
         reach = u_n + 2.0 * rnd.radius     # B's point sits this far across the normal
     else:
-        if dfm.point_offsets.shape[0] == 0:
+        if zones.point_offsets.shape[0] == 0:
             xa, ya = body_point(s.pos, s.rot, a, c.point_a[k, 0], c.point_a[k, 1])
         else:                              # points moved by the zones' displacement
-            xa, ya, xb, yb = deformed_points(k, c, s, dfm)
+            xa, ya, xb, yb = deformed_points(k, c, s, zones)
         nx, ny = contact_normal(s, a, b, c.face[k], c.normal_b[k, 0], c.normal_b[k, 1])
         u_n = (xb - xa) * nx + (yb - ya) * ny
         reach = u_n
@@ -79,15 +85,15 @@ def contact_update(k, c, strength, s, rnd, dfm):
         if event == 1 or event == 2:
             c.broken[k] = event
         _reanchor(k, c, s, xa, ya, xb, yb, reach, nx, ny)
-        if dfm.point_offsets.shape[0] != 0 and (
-                dfm.point_offsets[a + 1] > dfm.point_offsets[a] or
-                dfm.point_offsets[b + 1] > dfm.point_offsets[b]):
-            rest_points(k, c, s, dfm)       # the moved point(s) back to rest places
+        if zones.point_offsets.shape[0] != 0 and (
+                zones.point_offsets[a + 1] > zones.point_offsets[a] or
+                zones.point_offsets[b + 1] > zones.point_offsets[b]):
+            rest_points(k, c, s, zones)       # the moved point(s) back to rest places
             # the gap and offset the moved points have now (a rest place is found at the
             # displacement of the stretch it came from, not exactly the one it goes to): the
             # next increments are measured from them, else each move adds a spurious
             # increment and slipping or open contacts pump energy into the zones
-            xa2, ya2, xb2, yb2 = deformed_points(k, c, s, dfm)
+            xa2, ya2, xb2, yb2 = deformed_points(k, c, s, zones)
             c.un[k] = (xb2 - xa2) * nx + (yb2 - ya2) * ny
             c.us[k] = (yb2 - ya2) * nx - (xb2 - xa2) * ny
     # the point the force acts at
@@ -214,13 +220,13 @@ def log_crack(cracks, time, xa, ya, event, a, b, m):
 # parallel=True without a prange: the parfor pass first simplifies the typed IR (copy
 # propagation), which removes the bundle copies that the inline="always" helpers leave and with
 # them the reference counting of every array in the contact loop: 18x faster than the plain
-# pipeline, same results to the bit (benchmarks/numba_pipelines.py, docs/performance.md). It
+# pipeline, same results to the bit (benchmarks/trials/numba_pipelines.py, docs/performance.md). It
 # still runs on the calling thread; numba's warning that it found nothing to parallelise is
 # expected here, so that one warning is silenced.
 warnings.filterwarnings("ignore", category=NumbaPerformanceWarning,
                         message=r"(?s).*parallel=True.*no transformation for parallel")
 @njit(cache=True, parallel=True)
-def chunk_forces(c, strength, s, rnd, dfm, par, edges, j, cracks, time):
+def chunk_forces(c, strength, s, rnd, zones, par, edges, j, cracks, time):
     """The contact loop of both kernels; returns the number of bond failures it kept.
 
     ``j < 0``, the serial kernel: every live contact (``contact_update``), its force added to
@@ -250,7 +256,7 @@ def chunk_forces(c, strength, s, rnd, dfm, par, edges, j, cracks, time):
     for k in range(k1):
         if k < k0:
             continue
-        fx, fy, xa, ya, event = contact_update(k, c, strength, s, rnd, dfm)
+        fx, fy, xa, ya, event = contact_update(k, c, strength, s, rnd, zones)
         a = c.block_a[k]
         b = c.block_b[k]
         own_a = serial or owner[a] == j
@@ -295,12 +301,12 @@ def chunk_forces(c, strength, s, rnd, dfm, par, edges, j, cracks, time):
 
 
 @njit(cache=True)
-def add_contact_forces(c, strength, s, cracks, time, rnd, edges, dfm):
+def add_contact_forces(c, strength, s, cracks, time, rnd, edges, zones):
     """All live contacts (``contact_update``), forces added to both blocks in contact order;
     a new failure is appended to ``cracks``. ``rnd``: the corners' Rounding (``rounding.py``;
-    empty: sharp). ``edges``: the edge elements (module docstring). ``dfm``: the deformable
-    blocks' zones (``components.deformable``; empty: rigid blocks). (``chunk_forces`` with
+    empty: sharp). ``edges``: the edge elements (module docstring). ``zones``: the deformable
+    blocks' zones (``deformable.component``; empty: rigid blocks). (``chunk_forces`` with
     ``j = -1`` and an empty Parallel bundle: the threaded kernel's loop, compiled once.)"""
     # np.int64(-1), not -1: a literal argument is a signature of its own (Literal[int](-1)),
     # and the law would be compiled again for the threaded kernel's int64 chunk index
-    chunk_forces(c, strength, s, rnd, dfm, no_parallel(), edges, np.int64(-1), cracks, time)
+    chunk_forces(c, strength, s, rnd, zones, no_parallel(), edges, np.int64(-1), cracks, time)

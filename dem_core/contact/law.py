@@ -1,5 +1,5 @@
 """The flaw/joint contact law: incremental Coulomb slip with a tension cut-off and residual
-strength (thesis eqs 3.1-3.5, CASES.md), compression positive.
+strength (thesis section 3.4, eqs 3.1-3.5), compression positive.
 
 Each contact keeps its stresses and updates them from the increments of its normal opening
 ``du_n`` and shear displacement ``du_s`` (m) over the step::
@@ -28,6 +28,10 @@ from __future__ import annotations
 
 from numba import njit
 
+from .materials import (COL_BREAKABLE, COL_COHESION, COL_RESIDUAL_COHESION,
+                        COL_RESIDUAL_TAN_FRICTION, COL_RESIDUAL_TENSILE_STRENGTH,
+                        COL_TAN_FRICTION, COL_TENSILE_STRENGTH)
+
 __all__ = ["coulomb_law"]
 
 # events returned by coulomb_law
@@ -43,7 +47,8 @@ def coulomb_law(du_n, du_s, sn_e, ts, kn, ks, strength, m, broken):
     du_n, du_s : float, m. Increments of opening and shear displacement.
     sn_e, ts : float, Pa. Elastic normal stress and shear stress at the last step.
     kn, ks : float, Pa/m.
-    strength : (nm, 7) float64 table; m : the contact's material row.
+    strength : (nm, 7) float64 table (``MaterialTable.strength_array``, columns
+        ``materials.COL_*``); m : the contact's material row.
     broken : int. 0 intact (peak strength), otherwise residual strength.
 
     Returns
@@ -54,14 +59,19 @@ def coulomb_law(du_n, du_s, sn_e, ts, kn, ks, strength, m, broken):
     """
     sn_e = sn_e - kn * du_n
     trial = ts - ks * du_s
-    if strength[m, 6] == 0.0:                     # glued: elastic, no limit
+    if strength[m, COL_BREAKABLE] == 0.0:         # glued: elastic, no limit
         return sn_e, trial, sn_e, 0.0, ELASTIC
     if broken == 0:
-        T, c, tanphi = strength[m, 0], strength[m, 1], strength[m, 2]
+        T = strength[m, COL_TENSILE_STRENGTH]
+        c = strength[m, COL_COHESION]
+        tanphi = strength[m, COL_TAN_FRICTION]
         # only a bond (strength above residual) can fail; a zero-strength joint just slips/opens
-        bond = T > strength[m, 3] or c > strength[m, 4]
+        bond = (T > strength[m, COL_RESIDUAL_TENSILE_STRENGTH]
+                or c > strength[m, COL_RESIDUAL_COHESION])
     else:
-        T, c, tanphi = strength[m, 3], strength[m, 4], strength[m, 5]
+        T = strength[m, COL_RESIDUAL_TENSILE_STRENGTH]
+        c = strength[m, COL_RESIDUAL_COHESION]
+        tanphi = strength[m, COL_RESIDUAL_TAN_FRICTION]
         bond = False
     if sn_e < -T:                                  # tension cut-off (separation)
         return 0.0, 0.0, sn_e, du_s - ts / ks, TENSION_FAILURE if bond else OPEN

@@ -18,7 +18,21 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-__all__ = ["Material", "MaterialTable", "material_for", "material_table"]
+__all__ = ["Material", "MaterialTable", "material_for", "material_table",
+           "COL_TENSILE_STRENGTH", "COL_COHESION", "COL_TAN_FRICTION",
+           "COL_RESIDUAL_TENSILE_STRENGTH", "COL_RESIDUAL_COHESION",
+           "COL_RESIDUAL_TAN_FRICTION", "COL_BREAKABLE", "STRENGTH_COLUMNS"]
+
+# the columns of ``MaterialTable.strength_array()`` (one row per material), what the kernels
+# read: peak T, c, tan phi, residual T, c, tan phi, and breakable (1.0; 0.0: glued)
+COL_TENSILE_STRENGTH = 0
+COL_COHESION = 1
+COL_TAN_FRICTION = 2
+COL_RESIDUAL_TENSILE_STRENGTH = 3
+COL_RESIDUAL_COHESION = 4
+COL_RESIDUAL_TAN_FRICTION = 5
+COL_BREAKABLE = 6
+STRENGTH_COLUMNS = 7
 
 
 @dataclass(frozen=True)
@@ -83,18 +97,19 @@ class MaterialTable:
     ----------
     names : list[str]
     kn, ks : (nm,) float64, Pa/m.
-    tensile, cohesion, tan_friction : (nm,) float64, Pa, Pa, -. Peak values.
-    res_tensile, res_cohesion, res_tan_friction : (nm,) float64. Residual values.
+    tensile_strength, cohesion, tan_friction : (nm,) float64, Pa, Pa, -. Peak values.
+    residual_tensile_strength, res_cohesion, res_tan_friction : (nm,) float64. Residual
+        values.
     breakable : (nm,) int8. 0 = glued.
     """
 
     names: list
     kn: np.ndarray
     ks: np.ndarray
-    tensile: np.ndarray
+    tensile_strength: np.ndarray
     cohesion: np.ndarray
     tan_friction: np.ndarray
-    res_tensile: np.ndarray
+    residual_tensile_strength: np.ndarray
     res_cohesion: np.ndarray
     res_tan_friction: np.ndarray
     breakable: np.ndarray
@@ -112,9 +127,10 @@ class MaterialTable:
         return cls(
             names=list(names),
             kn=col(lambda m: m.kn), ks=col(lambda m: m.ks),
-            tensile=col(lambda m: m.tensile_strength), cohesion=col(lambda m: m.cohesion),
+            tensile_strength=col(lambda m: m.tensile_strength),
+            cohesion=col(lambda m: m.cohesion),
             tan_friction=col(lambda m: tan(m.friction)),
-            res_tensile=col(lambda m: m.residual_tensile_strength),
+            residual_tensile_strength=col(lambda m: m.residual_tensile_strength),
             res_cohesion=col(lambda m: m.residual_cohesion),
             res_tan_friction=col(lambda m: tan(m.friction if m.residual_friction is None
                                                else m.residual_friction)),
@@ -123,14 +139,20 @@ class MaterialTable:
 
     def bonded(self) -> np.ndarray:
         """(nm,) bool: an intact contact of this material is a bond (can fail, or is glued)."""
-        return ((self.tensile > self.res_tensile) | (self.cohesion > self.res_cohesion)
+        return ((self.tensile_strength > self.residual_tensile_strength)
+                | (self.cohesion > self.res_cohesion)
                 | (self.breakable == 0))
 
     def strength_array(self) -> np.ndarray:
-        """(nm, 7) float64 rows [T, c, tan phi, T_res, c_res, tan phi_res, breakable] for kernels."""
-        return np.ascontiguousarray(np.column_stack([
-            self.tensile, self.cohesion, self.tan_friction, self.res_tensile,
-            self.res_cohesion, self.res_tan_friction, self.breakable.astype(np.float64)]))
+        """(nm, 7) float64 rows [T, c, tan phi, T_res, c_res, tan phi_res, breakable] for kernels
+        (the columns ``COL_TENSILE_STRENGTH`` ... ``COL_BREAKABLE``)."""
+        cols = {COL_TENSILE_STRENGTH: self.tensile_strength, COL_COHESION: self.cohesion,
+                COL_TAN_FRICTION: self.tan_friction,
+                COL_RESIDUAL_TENSILE_STRENGTH: self.residual_tensile_strength,
+                COL_RESIDUAL_COHESION: self.res_cohesion,
+                COL_RESIDUAL_TAN_FRICTION: self.res_tan_friction,
+                COL_BREAKABLE: self.breakable.astype(np.float64)}
+        return np.ascontiguousarray(np.column_stack([cols[k] for k in range(STRENGTH_COLUMNS)]))
 
 
 def material_for(name: str, mapping: dict) -> Material:

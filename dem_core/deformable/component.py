@@ -1,4 +1,4 @@
-"""Deformable blocks, part 2 (issue 24 item 2): zones coupled to the contacts by a floating frame.
+"""Deformable blocks: the zones coupled to the contacts by a floating frame.
 
 A deformable block keeps its rigid pose (``BlockState.pos``, ``theta``: the frame; the
 contacts, the search and the integration of the blocks are unchanged) and carries the
@@ -143,8 +143,8 @@ def no_deformable() -> Deformable:
                       np.zeros(0, np.int8))
 
 
-def is_empty(d: Deformable) -> bool:
-    return d.point_offsets.shape[0] == 0
+def is_empty(zones: Deformable) -> bool:
+    return zones.point_offsets.shape[0] == 0
 
 
 def deformable_bundle(props, size, E, nu, density, strength=None, origin=None,
@@ -201,18 +201,18 @@ def deformable_bundle(props, size, E, nu, density, strength=None, origin=None,
 # removes the bundle copies the inlined helpers leave (and their reference counting), about
 # 5x faster here; it still runs on the calling thread
 @njit(cache=True, parallel=True)
-def add_deformable(d, c, s, p, kick):
+def add_deformable(zones, c, s, p, kick):
     """The zones' step (module docstring): elastic and contact forces on the gridpoints, the
     rigid part of that load taken off, damping, leapfrog (velocities kicked by ``kick`` s: dt,
     or dt / 2 on the step after a kinetic-damping stop, as the blocks), mean motion removed."""
-    if d.point_offsets.shape[0] == 0:
+    if zones.point_offsets.shape[0] == 0:
         return
-    dt, alpha = d.control[0], d.control[1]
-    d.f[:] = 0.0
-    add_zone_forces(d)
+    dt, alpha = zones.control[0], zones.control[1]
+    zones.f[:] = 0.0
+    add_zone_forces(zones)
     for k in range(c.count[0]):
         a, b = c.block_a[k], c.block_b[k]
-        ea, qa0, qa1, eb, qb0, qb1 = contact_sides(d, k, c, s)
+        ea, qa0, qa1, eb, qb0, qb1 = contact_sides(zones, k, c, s)
         if ea < 0 and eb < 0:
             continue
         nx, ny = contact_normal(s, a, b, c.face[k], c.normal_b[k, 0], c.normal_b[k, 1])
@@ -220,38 +220,39 @@ def add_deformable(d, c, s, p, kick):
         fx, fy = L * (c.sn[k] * nx - c.ts[k] * ny), L * (c.sn[k] * ny + c.ts[k] * nx)
         if ea >= 0:
             lx, ly = unrotate(s.rot, a, fx, fy)
-            spread(d.f, d, ea, qa0, qa1, lx, ly, -1.0)
+            spread(zones.f, zones, ea, qa0, qa1, lx, ly, -1.0)
         if eb >= 0:
             lx, ly = unrotate(s.rot, b, fx, fy)
-            spread(d.f, d, eb, qb0, qb1, lx, ly, 1.0)
-    for blk in range(d.point_offsets.shape[0] - 1):
-        g0, g1 = d.point_offsets[blk], d.point_offsets[blk + 1]
+            spread(zones.f, zones, eb, qb0, qb1, lx, ly, 1.0)
+    for blk in range(zones.point_offsets.shape[0] - 1):
+        g0, g1 = zones.point_offsets[blk], zones.point_offsets[blk + 1]
         if g0 < g1 and p.active[blk]:
-            if d.held[blk] != 0:
-                gx, gy = unrotate(s.rot, blk, d.control[2], d.control[3])
-                _move_held(d, g0, g1, dt, kick, alpha, gx, gy)
+            if zones.held[blk] != 0:
+                gx, gy = unrotate(s.rot, blk, zones.control[2], zones.control[3])
+                _move_held(zones, g0, g1, dt, kick, alpha, gx, gy)
             else:
-                _move_block(d, g0, g1, dt, kick, alpha)
+                _move_block(zones, g0, g1, dt, kick, alpha)
 
 
 @njit(cache=True, inline="always")
-def _move_held(d, g0, g1, dt, kick, alpha, gx, gy):
+def _move_held(zones, g0, g1, dt, kick, alpha, gx, gy):
     """A held block's gridpoints (its frame does not move): the whole load, the weight
     (gx, gy in block axes) included; ``point_held`` directions stay at rest."""
     for i in range(g0, g1):
-        d.f[i, 0] += d.mass[i] * gx
-        d.f[i, 1] += d.mass[i] * gy
+        zones.f[i, 0] += zones.mass[i] * gx
+        zones.f[i, 1] += zones.mass[i] * gy
         for q in range(2):
-            if d.point_held[i] & (1 << q):
-                d.v[i, q] = 0.0
+            if zones.point_held[i] & (1 << q):
+                zones.v[i, q] = 0.0
             else:
-                d.v[i, q] += damped(d.f[i, q], d.v[i, q], alpha) * d.inv_mass[i] * kick
-            d.x[i, q] += d.v[i, q] * dt
+                zones.v[i, q] += (damped(zones.f[i, q], zones.v[i, q], alpha) * zones.inv_mass[i]
+                                  * kick)
+            zones.x[i, q] += zones.v[i, q] * dt
 
 
 @njit(cache=True, inline="always")
-def _move_block(d, g0, g1, dt, kick, alpha):
-    x, f, m = d.x, d.f, d.mass
+def _move_block(zones, g0, g1, dt, kick, alpha):
+    x, f, m = zones.x, zones.f, zones.mass
     mt, cx, cy, fx, fy = 0.0, 0.0, 0.0, 0.0, 0.0
     for i in range(g0, g1):
         mt += m[i]
@@ -272,21 +273,21 @@ def _move_block(d, g0, g1, dt, kick, alpha):
         f[i, 0] -= m[i] * (ax - al * ry)
         f[i, 1] -= m[i] * (ay + al * rx)
         for q in range(2):
-            d.v[i, q] += damped(f[i, q], d.v[i, q], alpha) * d.inv_mass[i] * kick
-            x[i, q] += d.v[i, q] * dt
-    _remove_rigid(d, g0, g1, True)
-    _remove_rigid(d, g0, g1, False)
+            zones.v[i, q] += damped(f[i, q], zones.v[i, q], alpha) * zones.inv_mass[i] * kick
+            x[i, q] += zones.v[i, q] * dt
+    _remove_rigid(zones, g0, g1, True)
+    _remove_rigid(zones, g0, g1, False)
 
 
 @njit(cache=True, inline="always")
-def _remove_rigid(d, g0, g1, displacement):
+def _remove_rigid(zones, g0, g1, displacement):
     """Take the mass-weighted mean translation and linearised rotation about the centroid out
     of u = x - x0 (``displacement``) or out of v."""
-    m, x0 = d.mass, d.x0
+    m, x0 = zones.mass, zones.x0
     mt, ux, uy = 0.0, 0.0, 0.0
     for i in range(g0, g1):
-        qx = d.x[i, 0] - x0[i, 0] if displacement else d.v[i, 0]
-        qy = d.x[i, 1] - x0[i, 1] if displacement else d.v[i, 1]
+        qx = zones.x[i, 0] - x0[i, 0] if displacement else zones.v[i, 0]
+        qy = zones.x[i, 1] - x0[i, 1] if displacement else zones.v[i, 1]
         mt += m[i]
         ux += m[i] * qx
         uy += m[i] * qy
@@ -294,54 +295,55 @@ def _remove_rigid(d, g0, g1, displacement):
     uy /= mt
     num, den = 0.0, 0.0
     for i in range(g0, g1):
-        qx = (d.x[i, 0] - x0[i, 0] if displacement else d.v[i, 0]) - ux
-        qy = (d.x[i, 1] - x0[i, 1] if displacement else d.v[i, 1]) - uy
+        qx = (zones.x[i, 0] - x0[i, 0] if displacement else zones.v[i, 0]) - ux
+        qy = (zones.x[i, 1] - x0[i, 1] if displacement else zones.v[i, 1]) - uy
         num += m[i] * (x0[i, 0] * qy - x0[i, 1] * qx)
         den += m[i] * (x0[i, 0] * x0[i, 0] + x0[i, 1] * x0[i, 1])
     phi = num / den
-    q = d.x if displacement else d.v
+    q = zones.x if displacement else zones.v
     for i in range(g0, g1):
         q[i, 0] -= ux - phi * x0[i, 1]
         q[i, 1] -= uy + phi * x0[i, 0]
 
 
 @njit(cache=True)
-def gridpoint_stiffness(d, c, s):
+def gridpoint_stiffness(zones, c, s):
     """(ng,) N/m per m: the zones' row bound plus 2 (kn + ks) L of every contact whose force
     reaches the gridpoint (Gershgorin: the spring couples it to the other block)."""
-    out = d.stiff.copy()
+    out = zones.stiff.copy()
     tmp = np.zeros((out.shape[0], 2))
     for k in range(c.count[0]):
         kk = 2.0 * (c.kn[k] + c.ks[k]) * c.length[k]
-        ea, qa0, qa1, eb, qb0, qb1 = contact_sides(d, k, c, s)
+        ea, qa0, qa1, eb, qb0, qb1 = contact_sides(zones, k, c, s)
         if ea >= 0:
-            spread(tmp, d, ea, qa0, qa1, kk, kk, 1.0)
+            spread(tmp, zones, ea, qa0, qa1, kk, kk, 1.0)
         if eb >= 0:
-            spread(tmp, d, eb, qb0, qb1, kk, kk, 1.0)
+            spread(tmp, zones, eb, qb0, qb1, kk, kk, 1.0)
     out += tmp[:, 0]
     return out
 
 
 @njit(cache=True)
-def zone_kinetic_energy(d, active):
+def zone_kinetic_energy(zones, active):
     """J/m: 1/2 sum v^2 / inv_mass over the gridpoints of active blocks (inertial masses, as
     ``step.free_kinetic_energy``): the zones' share of the kinetic-damping peak test."""
     ke = 0.0
-    for blk in range(d.point_offsets.shape[0] - 1):
+    for blk in range(zones.point_offsets.shape[0] - 1):
         if active[blk]:
-            for i in range(d.point_offsets[blk], d.point_offsets[blk + 1]):
-                ke += (d.v[i, 0] * d.v[i, 0] + d.v[i, 1] * d.v[i, 1]) / d.inv_mass[i]
+            for i in range(zones.point_offsets[blk], zones.point_offsets[blk + 1]):
+                ke += ((zones.v[i, 0] * zones.v[i, 0] + zones.v[i, 1] * zones.v[i, 1])
+                       / zones.inv_mass[i])
     return 0.5 * ke
 
 
-def kinetic_energy(d) -> float:
+def kinetic_energy(zones) -> float:
     """J/m: 1/2 sum m v^2 of the gridpoints' motion relative to the frame (real masses)."""
-    return float(0.5 * (d.mass * (d.v ** 2).sum(axis=1)).sum())
+    return float(0.5 * (zones.mass * (zones.v ** 2).sum(axis=1)).sum())
 
 
-def strain_energy(d) -> float:
+def strain_energy(zones) -> float:
     """J/m: the zones' elastic energy (``zones.strain_energy``)."""
-    if d.area.shape[0] == 0:
+    if zones.area.shape[0] == 0:
         return 0.0
     from .zones import strain_energy as zone_energy
-    return zone_energy(d)
+    return zone_energy(zones)

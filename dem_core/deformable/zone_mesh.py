@@ -1,7 +1,7 @@
 """Zone meshes of deformable blocks: every block's polygon meshed into triangles by gmsh.
 
 Each face of a block is split into n = ceil(L / h) equal segments (L its length, h the block's
-zone size): the boundary gridpoints the contacts act on (``components/deformable.py`` finds a
+zone size): the boundary gridpoints the contacts act on (``deformable/component.py`` finds a
 point's segment on a face in O(1) because the segments of a face are equal). The interior is
 meshed by gmsh's frontal-Delaunay algorithm to the size h, so a long, thin block (a column
 between two joints) gets zones of about h in both directions, and a short face does not thin

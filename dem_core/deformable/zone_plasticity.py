@@ -1,5 +1,5 @@
-"""Mohr-Coulomb zones with a tension cut-off (issue 24 item 2): the strength table and the
-return of one zone's stress to the yield surface.
+"""Mohr-Coulomb zones with a tension cut-off (plastic deformable blocks): the strength table
+and the return of one zone's stress to the yield surface.
 
 Stress **tension positive** (the zones' convention). s1 >= s3 are the zone's in-plane principal
 stresses (s1 the most tensile); the out-of-plane stress szz is not one of them: it is carried
@@ -38,16 +38,38 @@ tensile strength T (Pa, >= 0, stored capped at c / tan phi).
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 from numba import njit
 
-__all__ = ["strength_table", "elastic_table", "mohr_coulomb", "SHEAR", "TENSION",
+__all__ = ["strength_table", "elastic_table", "mohr_coulomb", "new_keys", "SHEAR", "TENSION",
            "SHEAR_PAST", "TENSION_PAST"]
 
 # ``yielded`` bits: failing now (this step), or at some step before
 SHEAR, TENSION, SHEAR_PAST, TENSION_PAST = 1, 2, 4, 8
-KEYS = ("cohesion", "friction", "dilation", "tensile")
+KEYS = ("cohesion", "friction", "dilation", "tensile_strength")
+# keys of a strength dict that were renamed, accepted with a DeprecationWarning for one release
+OLD_KEYS = {"tensile": "tensile_strength"}
+
+
+def new_keys(row: dict, where="strength") -> dict:
+    """``row`` (a strength dict) with each old key (``OLD_KEYS``) renamed to its new one, with a
+    DeprecationWarning naming the new key; ValueError when both spellings are given."""
+    if not any(k in row for k in OLD_KEYS):
+        return row
+    out = {}
+    for k, v in row.items():
+        new = OLD_KEYS.get(k)
+        if new is None:
+            out[k] = v
+            continue
+        if new in row:
+            raise ValueError(f"{where}: give {new!r} only, not also its old name {k!r}")
+        warnings.warn(f"{where}: the key {k!r} is now {new!r} (the old name goes in the next "
+                      "release)", DeprecationWarning, stacklevel=3)
+        out[new] = v
+    return out
 
 
 def elastic_table(nz):
@@ -57,18 +79,19 @@ def elastic_table(nz):
 
 def strength_table(strength, nz, where="strength"):
     """The (nz, 4) table [c Pa, phi deg, psi deg, T Pa] (module docstring) of ``strength``:
-    None (elastic), a dict(cohesion=, friction=, dilation=0, tensile=+inf) of scalars or
-    (nz,) arrays, or a (4,) or (nz, 4) table. ValueError names a bad value; T is capped at
-    c / tan phi."""
+    None (elastic), a dict(cohesion=, friction=, dilation=0, tensile_strength=+inf) of scalars
+    or (nz,) arrays, or a (4,) or (nz, 4) table. ValueError names a bad value; T is capped at
+    c / tan phi. The old key ``tensile`` is still read, with a DeprecationWarning."""
     if strength is None:
         return elastic_table(nz)
     if isinstance(strength, dict):
+        strength = new_keys(strength, where)
         unknown = set(strength) - set(KEYS)
         missing = {"cohesion", "friction"} - set(strength)
         if unknown or missing:
             raise ValueError(f"{where}: keys are cohesion (Pa), friction (deg), dilation (deg, "
-                             f"default 0), tensile (Pa, default the apex c / tan phi); got "
-                             f"unknown {sorted(unknown)}, missing {sorted(missing)}")
+                             f"default 0), tensile_strength (Pa, default the apex c / tan phi); "
+                             f"got unknown {sorted(unknown)}, missing {sorted(missing)}")
         cols = [strength.get(k, d) for k, d in zip(KEYS, (None, None, 0.0, np.inf))]
     else:
         arr = np.asarray(strength, float)
@@ -84,7 +107,7 @@ def strength_table(strength, nz, where="strength"):
     checks = (("cohesion", c, ~np.isnan(c) & (c >= 0), "must be >= 0 Pa (+inf: elastic)"),
               ("friction", phi, (phi >= 0) & (phi < 90), "must be in [0, 90) deg"),
               ("dilation", psi, (psi >= 0) & (psi <= phi), "must be in [0, friction] deg"),
-              ("tensile", T, ~np.isnan(T) & (T >= 0), "must be >= 0 Pa"))
+              ("tensile_strength", T, ~np.isnan(T) & (T >= 0), "must be >= 0 Pa"))
     for name, v, ok, rule in checks:
         if not np.all(ok):
             raise ValueError(f"{where}: {name} {rule}, got {v[~ok][0]!r}")

@@ -1,12 +1,11 @@
-"""Deformable blocks, part 1 (issue 24 item 2): constant-strain triangle zones on gridpoints.
+"""Deformable blocks, the zones: constant-strain triangle zones on gridpoints.
 
 A deformable block is meshed into triangular zones whose corners are its own gridpoints (UDEC's
 internal discretisation; each block has its own gridpoints, so two blocks meet only through
 contacts). This module is the zones' mechanics on their own: the mesh, the explicit step of
 the gridpoints, energies, the critical time step and the assembled stiffness (for static
-checks). Part 2, the coupling to the contacts by a floating frame, is
-``components/deformable.py`` (``Model(deformable=...)``; docs/mechanics.md, "Deformable
-blocks, part 2").
+checks). Their coupling to the contacts by a floating frame is ``deformable/component.py``
+(``Model(deformable=...)``; docs/mechanics.md, "the floating frame").
 
 Zone mechanics (plane strain, small strain in each zone's co-rotated frame, linear elastic or
 Mohr-Coulomb; stress **tension positive**, as in the continuum module, unlike the contacts' sn):
@@ -151,7 +150,7 @@ def zones_from_mesh(points, triangles, E, nu, density, block=None, strength=None
     """The Zones of a mesh: triangles (m, 3) into points (n, 2), turned counter-clockwise;
     elastic constants E (Pa), nu and density (kg/m3), each a scalar or one per zone;
     ``strength`` None (elastic zones), dict(cohesion=Pa, friction=deg, dilation=deg,
-    tensile=Pa) of scalars or one per zone, or a (4,) / (m, 4) table
+    tensile_strength=Pa) of scalars or one per zone, or a (4,) / (m, 4) table
     (``zone_plasticity.strength_table``)."""
     pts = np.asarray(points, float)
     tri = np.array(triangles, np.int64)

@@ -91,3 +91,17 @@ class BlockSystem:
         near = np.abs(self.vertices[:, axis] - edge) <= tol
         owner = np.repeat(np.arange(self.n_blocks), np.diff(self.vertex_offsets))
         return np.unique(owner[near])
+
+
+def group_blocks(blocks, group) -> np.ndarray:
+    """Block indices of ``group``: a name of ``blocks.groups`` or an index array (ValueError
+    naming an unknown group or an index out of range)."""
+    if isinstance(group, str):
+        if group not in blocks.groups:
+            raise ValueError(f"no block group {group!r}; groups are {sorted(blocks.groups)}")
+        idx = np.asarray(blocks.groups[group], dtype=np.int64)
+    else:
+        idx = np.atleast_1d(np.asarray(group, dtype=np.int64))
+    if idx.size and (idx.min() < 0 or idx.max() >= blocks.n_blocks):
+        raise ValueError(f"block index out of range 0..{blocks.n_blocks - 1}")
+    return idx

@@ -2,11 +2,19 @@
 component tables, monitoring points and histories; a resumed run is bit-for-bit the same.
 
 Arrays are stored exactly (npz) under ``<bundle>.<field>`` names, scalars and names as JSON in
-the ``meta`` entry. ``Model.save`` / ``Model.load`` decide what goes in; this module only writes
-and reads parts (it does not import the model).
+the ``meta`` entry, with the file's ``format`` version (``FORMAT``). ``write_model`` and
+``read_model`` decide what goes in (the model is only read: this module does not import it);
+``save_parts`` and ``load_parts`` write and read the parts. A file of an older format is
+converted by ``_upgrade`` (one function per version step) or refused with a message naming the
+file and its version.
+
+Format versions: 1, files written before the format was versioned (2026-11-24 to 28: the
+options as attributes, ``fixed_dt`` for the option ``dt``, the options added later missing);
+2, the ``SolverOptions`` record under ``meta["options"]``.
 """
 from __future__ import annotations
 
+import dataclasses
 import json
 import pickle
 import zipfile
@@ -14,14 +22,27 @@ import zipfile
 import numpy as np
 
 from ..geometry.blocks import BlockSystem
+from ..components.water import exposed_faces
 from ..contact.contacts import Contacts
+from ..contact.materials import material_table
+from ..contact.rounding import rounding_bundle
 from .monitor import History
-from ..components.cables import Cables
-from ..deformable.component import Deformable
-from ..components.liner import Liners
+from ..components.cables import Cables, no_cables
+from ..deformable.component import Deformable, no_deformable
+from ..components.liner import Liners, no_liners
 from ..step.state import BlockProps, BlockState, CrackLog
 
-__all__ = ["save_parts", "load_parts"]
+__all__ = ["save_parts", "load_parts", "write_model", "read_model", "RUNNING", "FORMAT"]
+
+FORMAT = 2
+
+# What changes while a model runs (``Model.snapshot``/``restore`` copy these attributes); the
+# rest is fixed when it is built, or changed only by ``Model.set_options``.
+RUNNING = ("props", "state", "contacts", "cracks", "materials", "table", "gravity", "load",
+           "servo_groups", "time", "step", "dt", "critical_dt", "kinetic", "history",
+           "points", "search_enabled", "water", "water_faces", "cables", "liners",
+           "zone_state")
+_CLOCK = ("time", "step", "dt", "critical_dt", "search_enabled")
 
 _BS_ARRAYS = ("vertices", "vertex_offsets", "centroid", "area", "region_id", "edge_p0",
               "edge_p1", "edge_block_a", "edge_block_b", "edge_normal", "edge_length",
@@ -105,3 +126,74 @@ def _parts(path) -> dict:
             "servo": [(d[f"servo.{i}.blocks"], d[f"servo.{i}.params"])
                       for i in range(meta["n_servo"])],
             "points": points, "history": history}
+
+
+def write_model(path, model) -> None:
+    """Write ``model`` (a ``dem_core.model.Model``, only read) to ``path`` (.npz)."""
+    bundles = {k: getattr(model, k) for k in _BUNDLES}
+    arrays = {k: getattr(model, k) for k in ("block_E", "block_nu", "gravity", "load",
+                                              "kinetic")}
+    options = {k: v for k, v in dataclasses.asdict(model.options).items()
+               if k not in ("block_E", "block_nu")}
+    meta = {"format": FORMAT, "options": options,
+            "clock": {k: getattr(model, k) for k in _CLOCK},
+            "materials": {k: vars(m) for k, m in model.materials.items()},
+            "table_names": model.table.names,
+            "water": None if model.water is None else model.water.to_dict()}
+    save_parts(path, model.blocks, bundles, model.contacts, arrays, meta, model.servo_groups,
+               model.points, model.history)
+
+
+def read_model(path, material, water_table) -> dict:
+    """The attributes of the model saved at ``path``: its parts, ``options`` (a
+    ``SolverOptions``), ``materials`` (``material(**fields)`` each), the material table, the
+    corners and the water (``water_table(dict)``: a WaterTable, with its exposed faces)."""
+    from ..settings import SolverOptions
+
+    parts = load_parts(path)
+    meta = _upgrade(parts["meta"], path)
+    a = parts["arrays"]
+    options = SolverOptions(**meta["options"], block_E=a["block_E"], block_nu=a["block_nu"])
+    out = {"blocks": parts["blocks"], "options": options, "contacts": parts["contacts"],
+           **meta["clock"], "materials": {k: material(**v) for k, v in meta["materials"].items()},
+           "servo_groups": parts["servo"], "points": parts["points"],
+           "history": parts["history"]}
+    out["table"] = material_table(meta["table_names"], out["materials"], options.unbreakable)
+    out.update({k: a[k] for k in ("block_E", "block_nu", "gravity", "load", "kinetic")})
+    out.update({k: parts["bundles"][k] for k in ("props", "state", "cracks")})
+    out["cables"] = parts["bundles"].get("cables", no_cables())
+    out["liners"] = parts["bundles"].get("liners", no_liners())
+    out["zone_state"] = parts["bundles"].get("zone_state", no_deformable())
+    out["corners"] = rounding_bundle(out["props"], options.rounding)
+    water = meta.get("water")
+    out["water"] = None if water is None else water_table(water)
+    if water is not None:
+        out["water"].check()
+    out["water_faces"] = None if water is None else exposed_faces(out["blocks"],
+                                                                  out["props"].active)
+    return out
+
+
+def _upgrade(meta, path) -> dict:
+    """``meta`` in today's format (``FORMAT``); ValueError naming the file for a format this
+    code does not know."""
+    version = meta.get("format", 1)
+    if version == 1:
+        meta = _from_1(meta)
+        version = 2
+    if version != FORMAT:
+        raise ValueError(f"{path}: a model file of format {version}; this dem_core reads "
+                         f"formats 1 to {FORMAT}: save it again with a dem_core that knows it")
+    return meta
+
+
+def _from_1(meta) -> dict:
+    """Format 1 -> 2: the options were the model's attributes under "settings" (the fixed
+    step as ``fixed_dt``); options added after a file was written take their defaults (the
+    behaviour the file's model had), the history interval comes from the history."""
+    settings = dict(meta["settings"])
+    settings["dt"] = settings.pop("fixed_dt", None)
+    settings["history_every"] = meta["history_every"]
+    clock = dict(meta["clock"])
+    clock.setdefault("critical_dt", float("inf"))
+    return dict(meta, format=2, options=settings, clock=clock)

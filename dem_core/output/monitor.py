@@ -23,7 +23,7 @@ to the settling window, so the rates are the end test's (``settle_window``). A c
 least halves from window to window has at most the last window's growth still to go (a
 geometric series), so the level stops within ``c / 2`` of the state it creeps towards; a steady
 creep, however slow, is not settled. The crack condition holds back a level where fracture is
-still spreading (issue 29 item 4; docs/performance.md,
+still spreading (docs/performance.md,
 "Fewer steps to an answer").
 """
 from __future__ import annotations
@@ -34,22 +34,30 @@ from dataclasses import dataclass, field
 import numpy as np
 from numba import njit
 
+from ..components import support
+from ..contact.detection import block_containing
+from ..deformable import component as zone_kernels
+from ..deformable import held as zone_bc
+
 __all__ = ["unbalanced_ratio", "kinetic_energy", "strain_energy", "History", "verdict",
-           "settled", "settle_window", "SolveResult"]
+           "settled", "settle_window", "SolveResult", "body_point", "point_motion", "model_ratio",
+           "model_kinetic_energy", "model_strain_energy", "gravity_energy", "crack_log",
+           "crack_counts", "diagnose", "history_row"]
 
 
 @njit(cache=True)
-def unbalanced_ratio(force, mass, gravity, load, fixity, active, nc, block_a, block_b,
-                     length, sn, ts, extra_num=0.0, extra_den=0.0):
-    """sum |unbalanced force| / sum (contact forces + weight + load) over the free blocks;
-    ``extra_num``, ``extra_den``: the same sums of other moving parts (support nodes:
-    ``support.unbalanced``)."""
+def unbalanced_ratio(s, p, c, gravity, load, extra_num=0.0, extra_den=0.0):
+    """sum |unbalanced force| / sum (contact forces + weight + load) over the free blocks
+    (``s`` BlockState, ``p`` BlockProps, ``c`` Contacts, ``gravity`` (2,) m/s^2, ``load``
+    (nb, 3) N/m); ``extra_num``, ``extra_den``: the same sums of other moving parts (support
+    nodes: ``support.unbalanced``; zones: ``deformable.held.unbalanced``)."""
+    mass, fixity, active, force = p.mass, p.fixity, p.active, s.force
     nb = mass.shape[0]
     scale = np.zeros(nb)
-    for k in range(nc):
-        fc = length[k] * math.hypot(sn[k], ts[k])
-        scale[block_a[k]] += fc
-        scale[block_b[k]] += fc
+    for k in range(c.count[0]):
+        fc = c.length[k] * math.hypot(c.sn[k], c.ts[k])
+        scale[c.block_a[k]] += fc
+        scale[c.block_b[k]] += fc
     g = math.hypot(gravity[0], gravity[1])
     num = extra_num
     den = extra_den
@@ -193,3 +201,156 @@ def settled(steps, displacements, cracks, window, creep) -> bool:
     return bool(last <= 0.5 * creep and before <= creep
                 and last <= 0.5 * before + 0.01 * creep
                 and cracks[-1] == cracks[max(first, 0)])
+
+
+# ---------------------------------------------------------------- measures of a whole model
+# Each takes the step's World record (``step.world``) and what else it reads; the driver
+# (``Model``) calls them and never computes a measure itself.
+
+def body_point(world, xy) -> tuple:
+    """A history point at ``xy`` (m): (block containing it, its local coordinates (2,), the
+    start (2,)), for ``point_motion``."""
+    xy = np.asarray(xy, dtype=np.float64)
+    s = world.state
+    b = block_containing(world.props, s.pos, s.rot, xy)
+    cos_t, sin_t = s.rot[b]
+    dx, dy = xy - s.pos[b]
+    return b, np.array([cos_t * dx + sin_t * dy, -sin_t * dx + cos_t * dy]), xy.copy()
+
+
+def point_motion(world, point) -> tuple:
+    """(ux, uy, vx, vy) of a history point now, m and m/s; ``point`` = (block, local point
+    (2,), start (2,)). On a deformable block: the frame's motion plus its zones' there."""
+    b, r, x0 = point
+    s = world.state
+    cos_t, sin_t = s.rot[b]
+    rx, ry = r
+    zvx = zvy = 0.0
+    if not zone_kernels.is_empty(world.zones):
+        ux, uy, zvx, zvy = zone_bc.point_motion(world.zones, b, r)
+        rx, ry = rx + ux, ry + uy
+    x = s.pos[b] + np.array([cos_t * rx - sin_t * ry, sin_t * rx + cos_t * ry])
+    w = s.omega[b]
+    v = s.vel[b] + w * np.array([-(x[1] - s.pos[b, 1]), x[0] - s.pos[b, 0]])
+    v += np.array([cos_t * zvx - sin_t * zvy, sin_t * zvx + cos_t * zvy])
+    return x[0] - x0[0], x[1] - x0[1], v[0], v[1]
+
+
+def model_ratio(world, gravity, load, cables, liners) -> float:
+    """The model's unbalanced ratio (``unbalanced_ratio``): blocks, support nodes and the
+    deformable blocks' gridpoints (their unbalanced non-rigid forces), so a model is in
+    equilibrium when its frames, its zones and its support are."""
+    num, den = support.unbalanced(cables, liners, gravity)
+    if not zone_kernels.is_empty(world.zones):
+        zn, zd = zone_bc.unbalanced(world.zones, world.props.active, gravity)
+        num, den = num + zn, den + zd
+    return unbalanced_ratio(world.state, world.props, world.contacts, gravity, load, num, den)
+
+
+def model_kinetic_energy(world) -> float:
+    """J/m: the blocks' (real masses), plus the zones' motion in their frames."""
+    s, p = world.state, world.props
+    ke = kinetic_energy(s.vel, s.omega, p.mass, p.inertia, p.active)
+    if not zone_kernels.is_empty(world.zones):
+        ke += zone_kernels.kinetic_energy(world.zones)
+    return ke
+
+
+def model_strain_energy(world) -> float:
+    """J/m: the contact springs', plus the deformable blocks' zones'."""
+    w = strain_energy(world.contacts)
+    if not zone_kernels.is_empty(world.zones):
+        w += zone_kernels.strain_energy(world.zones)
+    return w
+
+
+def gravity_energy(world, gravity) -> float:
+    """Potential of gravity relative to the initial positions, J/m (the blocks' frames and
+    the deformable blocks' gridpoints in them)."""
+    s, p, z = world.state, world.props, world.zones
+    a = p.active > 0
+    du = s.pos[a] - s.pos0[a]
+    e = float(-(p.mass[a] * (du @ gravity)).sum())
+    if not zone_kernels.is_empty(z):     # the zones' own displacement (a held block's)
+        owner = np.repeat(np.arange(p.mass.shape[0]), np.diff(z.point_offsets))
+        live = a[owner]
+        cos_t, sin_t = s.rot[owner].T
+        u = z.x - z.x0
+        ux, uy = cos_t * u[:, 0] - sin_t * u[:, 1], sin_t * u[:, 0] + cos_t * u[:, 1]
+        e -= float((z.mass * (ux * gravity[0] + uy * gravity[1]))[live].sum())
+    return e
+
+
+def history_row(step, time, ratio, kinetic, cracks, motions) -> dict:
+    """One row of the histories: step, time (s), unbalanced ratio, kinetic energy (J/m), the
+    crack counts, and each point's ux, uy (m), vx, vy (m/s) (``motions``: name -> tuple)."""
+    row = {"step": step, "time": time, "ratio": ratio, "kinetic_energy": kinetic}
+    row.update({f"cracks_{k}": v for k, v in cracks.items()})
+    for name, (ux, uy, vx, vy) in motions.items():
+        row.update({f"{name}.ux": ux, f"{name}.uy": uy, f"{name}.vx": vx, f"{name}.vy": vy})
+    return row
+
+
+def crack_log(cracks, names) -> dict:
+    """Every bond failure so far (a ``CrackLog``): time (s), x, y (m), mode (1 tension,
+    2 shear), blocks, material name (``names``: the material table's)."""
+    n = min(int(cracks.count[0]), cracks.rows.shape[0])
+    r = cracks.rows[:n]
+    return {"time": r[:, 0].copy(), "x": r[:, 1].copy(), "y": r[:, 2].copy(),
+            "mode": r[:, 3].astype(np.int8), "block_a": r[:, 4].astype(np.int64),
+            "block_b": r[:, 5].astype(np.int64),
+            "material": [names[int(m)] for m in r[:, 6]]}
+
+
+def crack_counts(cracks) -> dict:
+    """{"tension": n, "shear": n}: the bond failures so far by mode."""
+    mode = cracks.rows[:int(cracks.count[0]), 3]
+    return {"tension": int((mode == 1).sum()), "shear": int((mode == 2).sum())}
+
+
+# a block whose contacts overlap by more than this fraction of its width is squeezed
+SQUEEZED = 0.1
+
+
+def diagnose(world, area, b, clock) -> str:
+    """Why block ``b`` went unstable, and the fix (the ``ModelUnstable`` message).
+    ``area``: (nb,) block areas, m^2; ``clock``: dict of step, time, dt, critical_dt and
+    fixed_dt (None unless the user fixed the step)."""
+    c, s, p = world.contacts, world.state, world.props
+    mine = np.flatnonzero((c.block_a[:c.n] == b) | (c.block_b[:c.n] == b))
+    kmax = float(c.kn[mine].max()) if mine.size else 0.0
+    cause = _sliver(area, b) + _squeezed(c, mine, float(area[b]) / (2.0 * float(p.radius[b])))
+    fixed = clock["fixed_dt"]
+    if fixed is not None and fixed > clock["critical_dt"]:
+        cause.append(f"the fixed dt {fixed:.3g} s exceeds the critical step "
+                     f"{clock['critical_dt']:.3g} s: let the model choose dt")
+    if mine.size and c.ks[mine].max() > 10 * c.kn[mine].min():
+        cause.append("a large ks/kn ratio: lower the safety factor")
+    cause = cause or [f"the time step {clock['dt']:.3g} s is too large for the stiffness "
+                      f"(kn up to {kmax:.3g} Pa/m): lower safety"]
+    return (f"unstable at step {clock['step']}, t = {clock['time']:.6g} s: block {b} "
+            f"(centroid {s.pos[b].round(6).tolist()}, {mine.size} contacts, "
+            f"velocity {s.vel[b].tolist()}) moved too far in one step or became "
+            f"NaN. Likely cause: {'; '.join(cause)}.")
+
+
+def _sliver(area, b) -> list:
+    a, med = float(area[b]), float(np.median(area))
+    if a < 1e-3 * med:
+        return [f"a sliver (area {a:.3g} m^2 vs median {med:.3g}): merge it or use "
+                "mass_scaling=True"]
+    return []
+
+
+def _squeezed(c, mine, width) -> list:
+    """A thin block wedged at a joint crossing: its contacts overlap by much of its width
+    (``width`` = area / (2 radius))."""
+    overlap = float(-c.un[mine].min()) if mine.size else 0.0
+    if overlap <= SQUEEZED * width:
+        return []
+    return [f"a squeezed block: its contacts overlap by up to {overlap * 1e3:.3g} mm, "
+            f"{overlap / width:.2g} of its width ({width:.3g} m = area / (2 radius)), at "
+            f"normal stresses up to {float(c.sn[mine].max()) / 1e6:.3g} MPa; the contacts "
+            "are far too soft for that stress (a thin block wedged at a joint crossing): "
+            "stiffen those contacts, or excavate such blocks (e.g. area / radius^2 < 0.3) "
+            "before loading"]

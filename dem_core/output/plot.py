@@ -79,9 +79,9 @@ def block_picture(model, cracks=None, joints="joint:") -> dict:
     kind = np.concatenate([np.full(joint_edges.size, JOINT), modes]).astype(np.int8)
     a = bs.edge_block_a[edges].astype(np.int64)
     ends = np.stack([bs.edge_p0[edges], bs.edge_p1[edges]], axis=1) - s.pos0[a][:, None, :]
-    c, sn = np.cos(s.theta0[a])[:, None], np.sin(s.theta0[a])[:, None]
-    local = np.stack([c * ends[..., 0] + sn * ends[..., 1],
-                      -sn * ends[..., 0] + c * ends[..., 1]], axis=-1)
+    cos_t, sin_t = np.cos(s.theta0[a])[:, None], np.sin(s.theta0[a])[:, None]
+    local = np.stack([cos_t * ends[..., 0] + sin_t * ends[..., 1],
+                      -sin_t * ends[..., 0] + cos_t * ends[..., 1]], axis=-1)
     return {"offsets": p.vertex_offsets.copy(), "local": p.local_vertices.copy(),
             "pos0": s.pos0.copy(), "pos": s.pos.copy(), "theta0": s.theta0.copy(),
             "theta": s.theta.copy(), "active": p.active.copy(), "segment_block": a,
@@ -165,9 +165,9 @@ def draw_picture(pic, ax, displacement_scale=1.0, rupture=None, unit="m", colour
     seg = np.asarray(pic["segment_local"], float).reshape(-1, 2, 2)
     kind = np.asarray(pic["segment_kind"])
     shown = np.isin(blk, act)
-    c, s = np.cos(th[blk])[:, None], np.sin(th[blk])[:, None]
-    world = at[blk][:, None, :] + np.stack([c * seg[..., 0] - s * seg[..., 1],
-                                            s * seg[..., 0] + c * seg[..., 1]], axis=-1)
+    cos_t, sin_t = np.cos(th[blk])[:, None], np.sin(th[blk])[:, None]
+    world = at[blk][:, None, :] + np.stack([cos_t * seg[..., 0] - sin_t * seg[..., 1],
+                                            sin_t * seg[..., 0] + cos_t * seg[..., 1]], axis=-1)
     for kd, colour, width, label in ((JOINT, "k", 0.9, "joints"),
                                      (TENSION, "red", 1.6, "cracks, tension"),
                                      (SHEAR, "blue", 1.6, "cracks, shear")):

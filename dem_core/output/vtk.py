@@ -78,9 +78,9 @@ def _rigid_displacement(model, owner, x) -> np.ndarray:
     """(n, 2) displacement (m) of the points ``x`` (n, 2) carried by blocks ``owner`` since the
     start pose (pos0, theta0): x - [pos0 + R(theta0) R(theta)^T (x - pos)]."""
     s = model.state
-    c, sn = s.rot[owner, 0], s.rot[owner, 1]
+    cos_t, sin_t = s.rot[owner, 0], s.rot[owner, 1]
     d = x - s.pos[owner]
-    lx, ly = c * d[:, 0] + sn * d[:, 1], -sn * d[:, 0] + c * d[:, 1]
+    lx, ly = cos_t * d[:, 0] + sin_t * d[:, 1], -sin_t * d[:, 0] + cos_t * d[:, 1]
     c0, s0 = np.cos(s.theta0[owner]), np.sin(s.theta0[owner])
     x0 = s.pos0[owner] + np.column_stack([c0 * lx - s0 * ly, s0 * lx + c0 * ly])
     return x - x0
@@ -94,9 +94,9 @@ def _blocks(model):
     count = np.diff(off)[act]
     owner = np.repeat(np.arange(model.n_blocks), np.diff(off))
     lv = p.local_vertices
-    c, sn = s.rot[owner, 0], s.rot[owner, 1]
-    world = s.pos[owner] + np.column_stack([c * lv[:, 0] - sn * lv[:, 1],
-                                            sn * lv[:, 0] + c * lv[:, 1]])
+    cos_t, sin_t = s.rot[owner, 0], s.rot[owner, 1]
+    world = s.pos[owner] + np.column_stack([cos_t * lv[:, 0] - sin_t * lv[:, 1],
+                                            sin_t * lv[:, 0] + cos_t * lv[:, 1]])
     keep = p.active[owner] > 0                      # points of removed blocks are left out
     new_index = np.cumsum(keep) - 1
     order = act[np.argsort(count, kind="stable")]   # meshio: one cell block per polygon size

@@ -7,6 +7,14 @@ stiffness of the free degrees of freedom). ``step.frequency_bound`` bounds it bl
 (Gershgorin, a factor 2 for the neighbours): safe but, on a bonded Voronoi slope, about 2.8
 times too high in omega^2 (1.67 in the step). Here omega_max^2 is computed instead.
 
+Sources: the stability limit of the central-difference (leapfrog) scheme, dt < 2 / omega_max
+for an undamped linear system, is derived in T. Belytschko, W. K. Liu and B. Moran (2000),
+Nonlinear Finite Elements for Continua and Structures, Wiley, ch. 6 (stability of explicit
+time integration); the block-by-block bound uses the circle theorem of S. Gershgorin (1931),
+"Uber die Abgrenzung der Eigenwerte einer Matrix", Izv. Akad. Nauk SSSR, Ser. Mat. 7,
+749-754: every eigenvalue lies within a row's diagonal entry plus the sum of the magnitudes
+of its off-diagonal entries.
+
 Stiffness of contact k (rigid blocks A, B; 3 dofs each: u, v, rotation w)::
 
     K_k = L kn g_n g_n^T + L ks g_t g_t^T,   g = [-e, -(r_A x e), e, (r_B x e)]
@@ -24,8 +32,9 @@ the linear element's (``forces.edge_correction``) in the Loewner order, so this 
 the contacts, one pass each) with ARPACK's Lanczos (``scipy.sparse.linalg.eigsh``) from a fixed
 start; the converged Ritz value is raised by its tolerance (ARPACK's residual bound on it).
 tests/test_critical_step.py checks it against a closed form and against the stability limit
-of central differences. Cost: a few tens of contact passes, 5 ms at 1e3 blocks, 77 ms at 1e4,
-1.6 s at 1e5 (``benchmarks/critical_step_cost.py``).
+of central differences. Cost: a few tens of contact passes (``benchmarks/critical_step_cost.py``;
+the measured times: docs/performance.md, "The step from the largest eigenvalue, with
+settling").
 """
 from __future__ import annotations
 

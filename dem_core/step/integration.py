@@ -1,14 +1,16 @@
-"""Damping, integration and the movement checks of the time step (``step.py``), on one thread
+"""Damping, integration and the movement checks of the time step (``step.run``), on one thread
 (``advance``), on the threads by chunks of blocks (``advance_parallel``), or for a list of
 blocks (``advance_range`` with ``blocks``: the threaded step's owned and shared blocks,
 ``region``). Every path runs the one compiled loop of
 ``advance_range``, so every block gets the same numbers, bit for bit.
 
-For each free velocity component:  F_d = f - alpha |f| sign(v)   (local damping, Cundall's)
+For each free velocity component:  F_d = f - alpha |f| sign(v)   (local non-viscous damping:
+                                   Cundall 1987, "Distinct element models of rock and soil
+                                   structure"; Itasca's UDEC manual)
                                    v  += F_d / m_inertial * kick
 prescribed components:             v   = v_bc
 then x += v dt, theta += omega dt, rot = R(theta). ``kick`` (s) is ``dt``, or ``dt / 2`` on the
-first step after a kinetic-damping stop (``step.py``).
+first step after a kinetic-damping stop (``step.relaxation``).
 
 Status codes: 0 done, 1 a block moved more than half the search margin since the last contact
 search, 2 unstable (NaN, or a block moving more than a tenth of its radius, or turning 0.1 rad,
@@ -105,8 +107,7 @@ def advance_range(s, p, integ, kick, i0, i1, blocks):
 
 # the threaded integration pass of the two-region step (a scene with forces other than the
 # contacts' and gravity) from this many blocks up: below it the start of a parallel region
-# (about 60 us with numba's TBB layer on the 2-core VM) costs more than the pass (0.17 ms at
-# 10,834 blocks on one thread, 0.18 ms on two; benchmarks/two_threads.py)
+# costs more than the pass (benchmarks/two_threads.py; docs/performance.md, "Two threads")
 MIN_THREADED_BLOCKS = 30_000
 
 # chunks of ``advance_parallel`` (a chunk is one call, a thread's unit of work), and the

@@ -1,6 +1,16 @@
 """Moving the nodes of the support elements: local damping and the leapfrog update, shared by
 the blocks (``step.advance``) and the cable and liner nodes (``components/cables.py``,
-``components/liner.py``)."""
+``components/liner.py``).
+
+Local damping (``damped``) is the non-viscous damping of the distinct element method: each
+force component is reduced by a fixed fraction alpha of its magnitude, against the direction
+of the node's velocity in that component, so the damping force does work only while a node
+moves and vanishes at equilibrium without slowing a steady motion the way a viscous dashpot
+would. Sources: P. A. Cundall (1987), "Distinct element models of rock and soil structure",
+in E. T. Brown (ed.), Analytical and Computational Methods in Engineering Rock Mechanics,
+Allen & Unwin, ch. 4; Itasca, UDEC user's manual, theory and background ("Mechanical
+damping", local damping), where alpha = 0.8 is the default.
+"""
 from __future__ import annotations
 
 from numba import njit

@@ -10,6 +10,13 @@ restart starts each fast mode with its amplitude divided by cos(omega dt/2): doc
 The interval must stay well below a quarter of the slowest period; local damping converges a
 slender model's lowest bending mode only over many of its periods, kinetic damping within a few
 quarter periods. Prescribed velocities are kept.
+
+Sources: kinetic damping is the dynamic relaxation of P. A. Cundall (1976), "Explicit finite
+difference methods in geomechanics", Proc. 2nd Int. Conf. Numerical Methods in Geomechanics,
+Blacksburg, ASCE, vol. 1, pp. 132-150, in the form set out by P. Underwood (1983), "Dynamic
+relaxation", in T. Belytschko and T. J. R. Hughes (eds), Computational Methods for Transient
+Analysis, North-Holland, ch. 5: an explicit dynamic solution run to its static limit,
+stopping the motion at every peak of the kinetic energy.
 """
 from __future__ import annotations
 
@@ -30,15 +37,15 @@ def next_kick(integ):
 
 
 @njit(cache=True)
-def end_step(integ, s, p, dfm):
+def end_step(integ, s, p, zones):
     """Kinetic damping after the blocks moved (a stop also stops the zones)."""
-    kinetic_damping(integ, s, p, dfm)
+    kinetic_damping(integ, s, p, zones)
     if integ.kinetic[2] != 0.0:
-        dfm.v[:] = 0.0
+        zones.v[:] = 0.0
 
 
 @njit(cache=True)
-def kinetic_damping(integ, s, p, dfm):
+def kinetic_damping(integ, s, p, zones):
     """Every ``kinetic_interval`` steps: stop all free motion after a kinetic-energy peak
     (the blocks' and the deformable blocks' gridpoints')."""
     if integ.kinetic_interval <= 0:
@@ -48,7 +55,7 @@ def kinetic_damping(integ, s, p, dfm):
     if k[1] < integ.kinetic_interval:
         return
     k[1] = 0.0
-    ke = free_kinetic_energy(s, p) + zone_kinetic_energy(dfm, p.active)
+    ke = free_kinetic_energy(s, p) + zone_kinetic_energy(zones, p.active)
     if ke < k[0]:
         stop_free_motion(s, p)
         ke = 0.0

@@ -12,7 +12,7 @@ One step (``run_steps`` loops it inside numba, no Python in between)::
     f += liners (bond); their nodes move     components/liner.py
     servo velocities from f                  components/servo.py: last, so it reacts to every
                                              force of the step
-    deformable blocks' zones: their forces   components/deformable.py (empty bundle: nothing)
+    deformable blocks' zones: their forces   deformable/component.py (empty bundle: nothing)
          (elastic, the contacts' shares),
          the rigid part off; they move
     for each free velocity component:  F_d = f - alpha |f| sign(v)        (local damping)
@@ -63,49 +63,46 @@ __all__ = ["run_steps", "run_steps_threaded", "frequency_bound", "free_kinetic_e
 
 
 @njit(cache=True)
-def run_steps(nsteps, time, integ, s, p, c, strength, cracks, rnd, gravity, loads, water,
-              cables, liners, servo, dfm):
+def run_steps(nsteps, time, integ, world, parts):
     """Advance up to ``nsteps`` steps on one thread; returns (steps done, time, status, block).
 
-    ``integ`` Integrator, ``s`` BlockState, ``p`` BlockProps, ``c`` Contacts, ``strength`` the
-    material table's (nm, 7) rows, ``cracks`` CrackLog, ``rnd`` the corners' Rounding (empty:
-    sharp corners), then the component bundles (the last, ``dfm``, the deformable blocks'
-    zones, is also read by the contact kernels). Stops early with status 1 (search needed,
-    after completing the step) or 2 (unstable, before moving).
+    ``integ`` the Integrator, ``world`` and ``parts`` the step's records (``world.py``).
+    Stops early with status 1 (search needed, after completing the step) or 2 (unstable,
+    before moving).
     """
+    s, p = world.state, world.props
     for step in range(nsteps):
         s.force[:] = 0.0
-        add_contact_forces(c, strength, s, cracks, time, rnd, integ.edge_elements, dfm)
-        kick = add_other_forces(integ, s, p, c, gravity, loads, water, cables, liners, servo,
-                                dfm)
+        add_contact_forces(world.contacts, world.strength, s, world.cracks, time,
+                           world.corners, integ.edge_elements, world.zones)
+        kick = add_other_forces(integ, world, parts)
         status, bad = advance(s, p, integ, kick)
         if status == UNSTABLE:
             return step, time, UNSTABLE, bad
         time += integ.dt
-        end_step(integ, s, p, dfm)
+        end_step(integ, s, p, world.zones)
         if status == NEED_SEARCH:
             return step + 1, time, NEED_SEARCH, bad
     return nsteps, time, DONE, -1
 
 
 # A function of its own, not a branch of ``run_steps``: a serial model then never compiles the
-# threaded kernels (150 s of numba's first compile of a small model, docs/performance.md).
+# threaded kernels (docs/performance.md, "The test suite's time").
 @njit(cache=True)
-def run_steps_threaded(nsteps, time, integ, s, p, c, strength, cracks, rnd, par, gravity,
-                       loads, water, cables, liners, servo, dfm):
+def run_steps_threaded(nsteps, time, integ, world, parts, par):
     """``run_steps`` on the threads: ``par`` the Parallel bundle (chunks and scratch); the
     same numbers, bit for bit. When gravity is the only force besides the contacts' (the
     other bundles empty), all the steps run in one parallel region
     (``region.run_steps_region``); otherwise each step's contact pass is one region and its
     integration another (from ``MIN_THREADED_BLOCKS`` blocks up)."""
-    if only_gravity(loads, water, cables, liners, servo, dfm):
-        return run_steps_region(nsteps, time, integ, s, p, c, strength, cracks, rnd, par,
-                                gravity, dfm)
+    if only_gravity(parts, world.zones):
+        return run_steps_region(nsteps, time, integ, world, parts.gravity, par)
+    s, p = world.state, world.props
     for step in range(nsteps):
-        add_contact_forces_parallel(c, strength, s, cracks, time, rnd, par,  # (zeroes f)
-                                    integ.edge_elements, dfm)
-        kick = add_other_forces(integ, s, p, c, gravity, loads, water, cables, liners, servo,
-                                dfm)
+        add_contact_forces_parallel(world.contacts, world.strength, s, world.cracks, time,
+                                    world.corners, par, integ.edge_elements,  # (zeroes f)
+                                    world.zones)
+        kick = add_other_forces(integ, world, parts)
         if s.pos.shape[0] < MIN_THREADED_BLOCKS:
             status, bad = advance(s, p, integ, kick)
         else:
@@ -113,35 +110,36 @@ def run_steps_threaded(nsteps, time, integ, s, p, c, strength, cracks, rnd, par,
         if status == UNSTABLE:
             return step, time, UNSTABLE, bad
         time += integ.dt
-        end_step(integ, s, p, dfm)
+        end_step(integ, s, p, world.zones)
         if status == NEED_SEARCH:
             return step + 1, time, NEED_SEARCH, bad
     return nsteps, time, DONE, -1
 
 
 @njit(cache=True)
-def only_gravity(loads, water, cables, liners, servo, dfm):
+def only_gravity(parts, zones):
     """True when none of the force components but gravity is in the scene (their bundles
     empty: no applied loads, water, cables, liners, servos or deformable blocks)."""
-    return (loads.blocks.shape[0] == 0 and water.contact.shape[0] == 0
-            and water.face_block.shape[0] == 0 and cables.node_pos.shape[0] == 0
-            and liners.node_pos.shape[0] == 0 and servo.offsets.shape[0] <= 1
-            and dfm.point_offsets.shape[0] == 0)
+    return (parts.loads.blocks.shape[0] == 0 and parts.water.contact.shape[0] == 0
+            and parts.water.face_block.shape[0] == 0 and parts.cables.node_pos.shape[0] == 0
+            and parts.liners.node_pos.shape[0] == 0 and parts.servo.offsets.shape[0] <= 1
+            and zones.point_offsets.shape[0] == 0)
 
 
 @njit(cache=True)
-def add_other_forces(integ, s, p, c, gravity, loads, water, cables, liners, servo, dfm):
+def add_other_forces(integ, world, parts):
     """Every force but the contacts', the servos, and the deformable blocks' zones (which move
     here); returns the time of this step's velocity kick (s): ``dt``, or ``dt / 2`` on the
     first step after a kinetic-damping stop."""
-    add_gravity(gravity, s, p)
-    add_loads(loads, s, p)
-    add_water(water, s, p)
-    add_cables(cables, s, p)
-    add_liners(liners, s, p)
-    servo_velocities(servo, s, p)
+    s, p = world.state, world.props
+    add_gravity(parts.gravity, s, p)
+    add_loads(parts.loads, s, p)
+    add_water(parts.water, s, p)
+    add_cables(parts.cables, s, p)
+    add_liners(parts.liners, s, p)
+    servo_velocities(parts.servo, s, p)
     kick = next_kick(integ)
-    add_deformable(dfm, c, s, p, kick)
+    add_deformable(world.zones, world.contacts, s, p, kick)
     return kick
 
 
@@ -149,8 +147,10 @@ def add_other_forces(integ, s, p, c, gravity, loads, water, cables, liners, serv
 def frequency_bound(c, s, p):
     """(nb,) upper bound of omega^2 per block: 2 (sum k L / m + sum k L r^2 / I), k = kn + ks.
 
-    The factor 2 bounds the coupling to the neighbours (Gershgorin); the sum of kn and ks bounds
-    both directions. The critical step of central differences is 2/omega_max.
+    The factor 2 bounds the coupling to the neighbours (Gershgorin 1931: every eigenvalue
+    lies within a row's diagonal plus the sum of its off-diagonal magnitudes); the sum of kn
+    and ks bounds both directions. The critical step of central differences is 2/omega_max
+    (e.g. Belytschko, Liu & Moran 2000, Nonlinear Finite Elements, ch. 6).
     """
     nb = p.mass.shape[0]
     kt = np.zeros(nb)

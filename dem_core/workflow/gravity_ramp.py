@@ -48,28 +48,20 @@ class RampRecord(LimitRecord):
         return self.last_stable_level
 
 
-def raise_gravity(model, g_levels, ratio=1e-4, max_steps=20_000, failure_displacement=None,
-                  progress=None, stop_at_failure=True, ramp_steps=400, creep=None,
-                  watch=None, refine_to=None, on_level=None, record=None,
-                  start=0.0, settle=False) -> RampRecord:
+def raise_gravity(model, g_levels, settings=None, *, ramp_steps=400, refine_to=None,
+                  record=None, start=0.0, on_level=None, progress=None, **changes) -> RampRecord:
     """Solve the model at each g-level in turn (module docstring); return the record.
 
     Parameters
     ----------
     model : dem_core.model.Model, with its boundary conditions set.
-    g_levels : increasing sequence of g-levels (multiples of 9.81 m/s^2).
-    ratio : unbalanced-force ratio that counts as equilibrium.
-    max_steps : step limit per level.
-    failure_displacement : m. A block moving more than this during one level is failure.
-    progress : callable(str), optional.
-    stop_at_failure : stop at the first failed level (the model is then in its failed state).
-    creep : m, passed to ``Model.solve``: a displacement increment below this over the last
-        fifth of a level's steps is not "still moving" (slender models creep towards
-        equilibrium slowly; a small creep value calls that failure).
-    watch : sequence of history-point names, optional. Judge failure by the motion of these
-        points (e.g. the crest and the face of a slope) instead of the largest displacement of
-        any block, so that a loose block at a model boundary does not count as the failure of
-        the slope. ``failure_displacement`` and ``creep`` then apply to the points.
+    g_levels : increasing sequence of g-levels (multiples of ``units.STANDARD_GRAVITY``).
+    settings : ``SolveSettings`` of each level (and/or its fields as keywords): ``ratio``,
+        ``max_steps`` per level, ``failure_displacement`` (m; a block moving more than this
+        during one level is failure), ``creep`` (m; slender models creep towards equilibrium
+        slowly, and a small creep calls that failure), ``watch`` (history points judged
+        instead of every block, e.g. the crest and the face, so that a loose block at a
+        model boundary does not count as the failure of the slope), ``settle``.
     ramp_steps : steps over which g moves from one level to the next in 10 equal increments,
         so that a level is not applied as a sudden load (whose dynamic overshoot would break
         bonds a quasi-static load does not). 0 applies each level at once.
@@ -77,23 +69,22 @@ def raise_gravity(model, g_levels, ratio=1e-4, max_steps=20_000, failure_displac
         failed level until they are at most this far apart; then, if the failed level was
         reached by a larger step than ``refine_to``, raise g from the last stable state in steps
         of ``refine_to`` until a level fails (or the last of ``g_levels`` stands). The failure g
-        is then that of a ramp in ``refine_to`` steps (module docstring). Needs
-        ``stop_at_failure``.
-    on_level : callable(model, record), optional, called after each level
-        (``limit.search_failure``).
+        is then that of a ramp in ``refine_to`` steps (module docstring).
     record, start : to resume a ramp (``limit``, "Resuming"): its RampRecord and its last g;
         ``g_levels`` are then the levels after that. Default: a new record, from 0 g.
-    settle : stop a level early once it has settled (``limit.search_failure``).
+    on_level : callable(model, record), optional, called after each level
+        (``limit.search_failure``).
+    progress : callable(str), optional.
+
+    The ramp stops at the first failed level (the model is then in its failed state), or
+    refines from there (``refine_to``).
     """
     check_levels(g_levels, "g_levels")
     if any(b <= a for a, b in zip(g_levels, list(g_levels)[1:])):
         raise ValueError("g_levels must increase")
     return search_failure(model, g_levels, lambda m, a, b: _ramp(m, a, b, ramp_steps),
-                          RampRecord() if record is None else record, ratio=ratio,
-                          max_steps=max_steps, failure_displacement=failure_displacement,
-                          progress=progress, stop_at_failure=stop_at_failure, creep=creep,
-                          watch=watch, refine_to=refine_to, start=float(start),
-                          on_level=on_level, settle=settle)
+                          settings, record=RampRecord() if record is None else record,
+                          progress=progress, refine_to=refine_to, start=float(start), on_level=on_level, **changes)
 
 
 def _ramp(model, g_from, g_to, steps, increments=10):

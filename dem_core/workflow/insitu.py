@@ -33,7 +33,7 @@ import numpy as np
 
 from .water import check_surface, surface_height
 
-__all__ = ["InSitu", "top_surface", "model_top", "strong_then_real"]
+__all__ = ["InSitu", "top_surface", "model_top"]
 
 
 def top_surface(edges) -> np.ndarray:

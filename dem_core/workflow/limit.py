@@ -43,7 +43,8 @@ from pathlib import Path
 import numpy as np
 
 from ..model import Model, ModelUnstable
-from ..output.monitor import SETTLED, SolveResult, settle_window, settled, verdict
+from ..output.monitor import SolveResult, verdict
+from ..settings import SolveSettings
 
 __all__ = ["LimitRecord", "search_failure", "check_levels", "save_resumable", "load_resumable",
            "remove_resumable"]
@@ -103,10 +104,8 @@ def check_levels(levels, name="levels", positive=True) -> np.ndarray:
     return lv
 
 
-def search_failure(model, levels, apply, record=None, ratio=1e-4, max_steps=20_000,
-                   failure_displacement=None, progress=None, stop_at_failure=True, creep=None,
-                   watch=None, refine_to=None, start=None, on_level=None,
-                   settle=False) -> LimitRecord:
+def search_failure(model, levels, apply, settings=None, *, record=None, progress=None,
+                   refine_to=None, start=None, on_level=None, **changes) -> LimitRecord:
     """Move the load parameter through ``levels`` and judge each (module docstring).
 
     Parameters
@@ -114,28 +113,25 @@ def search_failure(model, levels, apply, record=None, ratio=1e-4, max_steps=20_0
     model : dem_core.model.Model, with its boundary conditions set.
     levels : strictly monotone sequence, each level more severe than the one before.
     apply : callable(model, level_from, level_to) moving the parameter.
+    settings : ``SolveSettings`` of each level (and/or its fields as keywords: ``ratio``,
+        ``max_steps`` per level, ``failure_displacement`` (m; a block or watched point moving
+        more than this in a level fails), ``creep``, ``watch``, ``settle``; ``Model.solve``).
     record : a LimitRecord (or subclass) to fill; default a new one.
-    ratio, max_steps : equilibrium ratio and step limit per level.
-    failure_displacement : m. A block (or watched point) moving more than this in a level fails.
     progress : callable(str), optional.
-    stop_at_failure : stop at the first failed level (the model is then in its failed state).
-    creep : m, passed to ``Model.solve``: a displacement increment below this over the last
-        fifth of a level's steps is not "still moving".
-    watch : history-point names, optional: judge by their motion instead of any block's.
-    refine_to : bracket width (in the parameter's units), optional; needs stop_at_failure.
+    refine_to : bracket width (in the parameter's units), optional.
+
+    The search stops at the first failed level (the model is then in its failed state), or
+    refines the bracket from there.
     start : the parameter's value before the first level (what ``apply`` moves from).
     on_level : callable(model, record), optional: called after each level is judged and
         recorded, before the search books it as its last stable or failed level (e.g. to save
         a resumable state, module docstring, or to write VTK files).
-    settle : stop a level early as "settled" (stable; ``monitor.settled``) instead of running
-        it to ``max_steps`` when it has stopped moving and cracking.
     """
+    st = (settings or SolveSettings()).replace(**changes).validated("search")
     levels = check_levels(levels, "levels", positive=False)
     if refine_to is not None:
         if not (np.isfinite(refine_to) and refine_to > 0):
             raise ValueError(f"refine_to must be finite and > 0, got {refine_to}")
-        if not stop_at_failure:
-            raise ValueError("refine_to needs stop_at_failure=True")
     rec = record if record is not None else LimitRecord()
     t0 = time.perf_counter()
     now = float(levels[0] if start is None else start)
@@ -145,62 +141,57 @@ def search_failure(model, levels, apply, record=None, ratio=1e-4, max_steps=20_0
     def level(frm, to):
         running[:] = [to, model.step]
         apply(model, frm, to)
-        failed = _judge(model, rec, to, ratio, max_steps, failure_displacement, creep, watch,
-                        progress, settle)
-        _record(rec, model, to, failed[1], failed[0], progress)
+        failed, res = _judge(model, rec, to, st, progress)
+        _record(rec, model, to, res, failed, progress)
         if on_level is not None:
             on_level(model, rec)
-        return failed[0]
+        return failed
 
     try:
-        frm_failed = now
-        for v in levels:
-            failed = level(now, float(v))
-            frm_failed, now = now, float(v)
-            if failed:
-                rec.failure_level = float(v)
-                # a blown-up model cannot be loaded further (bisection restarts from a copy)
-                if stop_at_failure or (rec.blowups and rec.blowups[-1][0] == v):
-                    break
-            elif rec.failure_level is None:
-                rec.last_stable_level = float(v)
-                if refine_to is not None:
-                    stable_state = model.snapshot()
-        if refine_to is not None and rec.failure_level is not None:
-            low = rec.last_stable_level if rec.last_stable_level is not None else (
-                float(levels[0]) if start is None else float(start))
-            jump = _bisect(rec, model, level, stable_state, refine_to, low,
-                           abs(rec.failure_level - frm_failed))
-            if jump > refine_to * (1 + 1e-9):
-                _march(rec, model, level, refine_to, low, float(levels[-1]))
+        _levels(rec, model, level, levels, now, refine_to, stable_state, start)
     except ModelUnstable as error:
         _record_unstable(rec, model, running[0], model.step - running[1], str(error), progress)
     rec.seconds += time.perf_counter() - t0         # a resumed search adds its part
     return rec
 
 
-def _judge(model, rec, value, ratio, max_steps, failure_displacement, creep, watch, progress,
-           settle=False):
+def _levels(rec, model, level, levels, now, refine_to, stable_state, start):
+    """Run the levels, then refine the bracket (``_bisect``, ``_march``)."""
+    frm_failed = now
+    for v in levels:
+        failed = level(now, float(v))
+        frm_failed, now = now, float(v)
+        if failed:
+            rec.failure_level = float(v)
+            break
+        elif rec.failure_level is None:
+            rec.last_stable_level = float(v)
+            if refine_to is not None:
+                stable_state = model.snapshot()
+    if refine_to is not None and rec.failure_level is not None:
+        low = rec.last_stable_level if rec.last_stable_level is not None else (
+            float(levels[0]) if start is None else float(start))
+        jump = _bisect(rec, model, level, stable_state, refine_to, low,
+                       abs(rec.failure_level - frm_failed))
+        if jump > refine_to * (1 + 1e-9):
+            _march(rec, model, level, refine_to, low, float(levels[-1]))
+
+
+def _judge(model, rec, value, settings, progress):
     """Solve one level; (failed, SolveResult). A blow-up of a level already failing is failure
     (recorded in ``rec.blowups``); any other blow-up propagates."""
     trace = ([0], [0.0])            # the solve's checks: steps, displacement (m)
+    fd = settings.failure_displacement
     try:
-        if watch:
-            res = _solve_watching(model, list(watch), ratio, max_steps, failure_displacement,
-                                  creep, trace=trace, settle=settle)
-        else:
-            res = model.solve(ratio=ratio, max_steps=max_steps,
-                              failure_displacement=failure_displacement, creep=creep,
-                              trace=trace, settle=settle)
+        res = model.solve(settings, trace=trace)
     except ModelUnstable as error:
-        res = _failing_before_blow_up(trace, failure_displacement, creep)
+        res = _failing_before_blow_up(trace, fd, settings.creep)
         if res is None:
             raise
         rec.blowups.append([float(value), str(error)])
         if progress:
             progress(f"{rec.parameter} = {value:.4g}: the failing model blew up: {error}")
-    failed = res.verdict == "failed" or (
-        failure_displacement is not None and res.max_displacement > failure_displacement)
+    failed = res.verdict == "failed" or (fd is not None and res.max_displacement > fd)
     return failed, res
 
 
@@ -290,43 +281,6 @@ def _failing_before_blow_up(trace, failure_displacement, creep):
     if v != "failed":
         return None
     return SolveResult("failed", steps[-1], float("nan"), d, why + " (then the model blew up)")
-
-
-def _solve_watching(model, names, ratio, max_steps, failure_displacement, creep, chunk=None,
-                    trace=None, settle=False):
-    """``Model.solve`` with the displacement test on history points ``names`` (see
-    ``raise_gravity``): equilibrium at ``ratio``, failed when a point moved more than
-    ``failure_displacement`` in this level or, at the step limit, by ``monitor.verdict`` on the
-    points' displacement. ``trace``: optional (steps, displacements) lists the checks are
-    appended to (read after a ``ModelUnstable``). ``settle``: as ``Model.solve``'s."""
-    missing = [n for n in names if n not in model.points]
-    if missing:
-        raise ValueError(f"no history point(s) {missing}; add them with add_history_point")
-    chunk = int(chunk or max(model.history.every, 100))
-    start = np.array([model.point_motion(n)[:2] for n in names])
-    steps, disp = trace if trace is not None else ([0], [0.0])
-    cracks = [int(model.cracks.count[0])]
-    done, r = 0, float("inf")
-    creep = 0.0 if creep is None else creep
-    while done < max_steps:
-        k = min(chunk, max_steps - done)
-        model.cycle(k)
-        done += k
-        r = model.unbalanced_ratio()
-        now = np.array([model.point_motion(n)[:2] for n in names])
-        d = float(np.hypot(*(now - start).T).max())
-        steps.append(done)
-        disp.append(d)
-        if r <= ratio:
-            return SolveResult("equilibrium", done, r, max(disp), f"ratio {r:.3g} <= {ratio:.3g}")
-        if failure_displacement is not None and d > failure_displacement:
-            return SolveResult("failed", done, r, d, f"a watched point moved {d:.3g} m > "
-                               f"{failure_displacement} m")
-        cracks.append(int(model.cracks.count[0]))
-        if settle and settled(steps, disp, cracks, *settle_window(max_steps, creep)):
-            return SolveResult("settled", done, r, max(disp), SETTLED)
-    v, why = verdict(steps, disp, creep)
-    return SolveResult(v, done, r, max(disp), why)
 
 
 def save_resumable(path, model, rec) -> bool:

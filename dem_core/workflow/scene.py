@@ -29,7 +29,9 @@ import numpy as np
 import shapely
 
 from ..geometry import GeometrySpec
+from ..settings import SCENE_SOLVER_KEYS
 from ..contact.materials import Material, material_for, material_table
+from ..deformable.zone_plasticity import new_keys
 from .stages import check_stages, stage_from_dict, stage_to_dict
 
 __all__ = ["Scene", "Boundary", "build_model", "conventional", "resolve_groups", "group_sides",
@@ -40,11 +42,9 @@ SIDES = ("bottom", "top", "left", "right")
 _SCENE_KEYS = {"name", "description", "geometry", "materials", "density", "block_E",
                "block_nu", "groups", "boundaries", "points", "stages", "solver"}
 _MATERIAL_KEYS = {f.name for f in dataclasses.fields(Material)}
-# Model options a scene may set (the rest of Model's arguments come from the scene itself)
-SOLVER_KEYS = {"damping", "kinetic_damping", "safety", "step_estimate", "mass_scaling", "dt",
-               "search_margin",
-               "new_contact_material", "history_every", "threads", "unbreakable",
-               "edge_elements", "rounding", "deformable", "zone_strength"}
+# Model options a scene may set: the SolverOptions fields but the block moduli (the scene's
+# own top-level keys)
+SOLVER_KEYS = set(SCENE_SOLVER_KEYS)
 
 
 @dataclass(frozen=True)
@@ -85,6 +85,11 @@ class Scene:
         self.boundaries = [b if isinstance(b, Boundary) else Boundary(**b)
                            for b in self.boundaries]
         self.points = {k: (float(v[0]), float(v[1])) for k, v in self.points.items()}
+        zs = self.solver.get("zone_strength")
+        if isinstance(zs, dict):       # old key names (``zone_plasticity.OLD_KEYS``) renamed
+            self.solver = dict(self.solver, zone_strength={
+                k: new_keys(row, f"zone_strength[{k!r}]") if isinstance(row, dict) else row
+                for k, row in zs.items()})
         self.validate()
 
     # ------------------------------------------------------------------ checks
@@ -203,8 +208,8 @@ def build_model(scene: Scene, blocks=None, **options):
 
 
 def conventional(scene: Scene, zone_size: float, plastic: bool = False) -> Scene:
-    """The thesis's conventional model of a scene (issue 24 item 4; thesis 4.2.2: UDEC with
-    the joints only): the same regions, joints, materials, groups, boundaries, points and
+    """The thesis's conventional model of a scene (thesis 4.2.2: UDEC with the joints only):
+    the same regions, joints, materials, groups, boundaries, points and
     stages, without the Voronoi flaws (each region is the blocks its joints cut it into), every
     block deformable with zones of ``zone_size`` m (the scene's ``block_E`` and ``block_nu``;
     docs/mechanics.md, "The conventional model"). ``plastic``: each region's zones are
@@ -223,7 +228,7 @@ def conventional(scene: Scene, zone_size: float, plastic: bool = False) -> Scene
         for r in scene.geometry.regions:
             f = material_for(f"flaw:{r.name}", scene.materials)
             solver["zone_strength"][r.name] = dict(cohesion=f.cohesion, friction=f.friction,
-                                                   tensile=f.tensile_strength)
+                                                   tensile_strength=f.tensile_strength)
     return dataclasses.replace(scene, geometry=dataclasses.replace(scene.geometry, voronoi={}),
                                solver=solver, name=f"{scene.name} conventional")
 

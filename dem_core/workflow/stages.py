@@ -8,7 +8,7 @@ point and the crack counts (``StageRecord``). The centrifuge g-ramp is one stage
 | kind (file) | record | does |
 |---|---|---|
 | "gravity" | ``Gravity(g_level, direction)`` | sets gravity (g-level x 9.81 m/s^2) |
-| "solve" | ``Solve(ratio, max_steps, failure_displacement, settle)`` | cycles to equilibrium |
+| "solve" | ``Solve(ratio, max_steps, failure_displacement, settle, creep, watch)`` | cycles to equilibrium |
 | "cycle" | ``Cycle(steps)`` | a fixed number of steps |
 | "raise_gravity" | ``RaiseGravity(g_levels, ...)`` | centrifuge ramp to failure |
 | "excavate" | ``Excavate(group)`` | removes a group's blocks |
@@ -32,6 +32,7 @@ import math
 import time
 from dataclasses import dataclass, field
 
+from ..settings import DEFAULT_SOLVE, SolveSettings
 from .insitu import InSitu
 from .loading import Displace, Load, ServoLoad
 from ..contact.materials import Material
@@ -70,21 +71,22 @@ class Gravity:
 
 @dataclass(frozen=True)
 class Solve:
-    """Cycle to equilibrium (``Model.solve``); ``settle``: stop early as "settled" once the
-    largest displacement has stopped growing and no bond broke (``monitor.settled``)."""
-    ratio: float = 1e-5
-    max_steps: int = 100_000
-    failure_displacement: float | None = None
-    settle: bool = False
+    """Cycle to equilibrium (``Model.solve``, ``workflow.solve``) with the ``SolveSettings``
+    of its fields; ``settle``: stop early as "settled" once the largest displacement has
+    stopped growing and no bond broke (``monitor.settled``); ``watch``: judge these history
+    points' displacement instead of every block's."""
+    ratio: float = DEFAULT_SOLVE.ratio           # the solve's SolveSettings (settings.py)
+    max_steps: int = DEFAULT_SOLVE.max_steps
+    failure_displacement: float | None = DEFAULT_SOLVE.failure_displacement
+    settle: bool = DEFAULT_SOLVE.settle
+    creep: float | None = DEFAULT_SOLVE.creep
+    watch: tuple = DEFAULT_SOLVE.watch
 
     def check(self, i, groups, materials):
-        if not (self.ratio > 0 and self.max_steps > 0):
-            raise ValueError(f"stage {i} (solve): ratio {self.ratio!r} and max_steps "
-                             f"{self.max_steps!r} must be > 0")
+        SolveSettings.of(self).validated(f"stage {i} (solve)")
 
     def run(self, model):
-        r = model.solve(ratio=self.ratio, max_steps=self.max_steps,
-                        failure_displacement=self.failure_displacement, settle=self.settle)
+        r = model.solve(SolveSettings.of(self))
         return r.steps, r.verdict, {"ratio": r.ratio, "reason": r.reason}
 
 
@@ -105,19 +107,20 @@ class Cycle:
 @dataclass(frozen=True)
 class RaiseGravity:
     g_levels: tuple
-    ratio: float = 1e-5
-    max_steps: int = 20_000
-    failure_displacement: float | None = None
-    creep: float | None = None
-    watch: tuple = ()
+    ratio: float = DEFAULT_SOLVE.ratio           # each level's SolveSettings (settings.py)
+    max_steps: int = DEFAULT_SOLVE.max_steps
+    failure_displacement: float | None = DEFAULT_SOLVE.failure_displacement
+    creep: float | None = DEFAULT_SOLVE.creep
+    watch: tuple = DEFAULT_SOLVE.watch
     refine_to: float | None = None
-    settle: bool = False
+    settle: bool = DEFAULT_SOLVE.settle
 
     def check(self, i, groups, materials):
         g = [float(v) for v in self.g_levels]
         if not g or not all(math.isfinite(v) and v > 0 for v in g) or sorted(g) != g:
             raise ValueError(f"stage {i} (raise_gravity): g_levels must be increasing and > 0, "
                              f"got {self.g_levels!r}")
+        SolveSettings.of(self).validated(f"stage {i} (raise_gravity)")
 
     def run(self, model, on_level=None, resume=None):
         """Raise gravity through ``g_levels`` (``gravity_ramp.raise_gravity``). ``on_level``:
@@ -132,11 +135,8 @@ class RaiseGravity:
         levels = [float(g) for g in self.g_levels if g > start]
         rec = resume if resume is not None else RampRecord()
         if levels:
-            rec = raise_gravity(model, levels, ratio=self.ratio, max_steps=self.max_steps,
-                                failure_displacement=self.failure_displacement,
-                                creep=self.creep, watch=tuple(self.watch),
-                                refine_to=self.refine_to, on_level=on_level, record=rec,
-                                start=start, settle=self.settle)
+            rec = raise_gravity(model, levels, SolveSettings.of(self), refine_to=self.refine_to,
+                                on_level=on_level, record=rec, start=start)
         verdict = "failed" if rec.failure_g is not None else (
             "unstable" if rec.unstable else "stood")
         return int(sum(rec.steps)), verdict, {"failure_g": rec.failure_g,

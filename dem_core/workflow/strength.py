@@ -27,6 +27,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..settings import DEFAULT_SOLVE, SolveSettings
 from .limit import LimitRecord, check_levels, search_failure
 
 __all__ = ["reduced_strength", "FactorOfSafety", "StrengthSchedule"]
@@ -49,13 +50,12 @@ def reduced_strength(material, factor, tension=False) -> dict:
     return out
 
 
-def _check_search(where, ratio, max_steps, refine_to, failure_displacement):
-    if not (ratio > 0 and max_steps > 0):
-        raise ValueError(f"{where}: ratio {ratio!r} and max_steps {max_steps!r} must be > 0")
+def _check_search(where, stage):
+    """The stage's SolveSettings and its ``refine_to`` checked (ValueError naming ``where``)."""
+    SolveSettings.of(stage).validated(where)
+    refine_to = stage.refine_to
     if refine_to is not None and not (math.isfinite(refine_to) and refine_to > 0):
         raise ValueError(f"{where}: refine_to {refine_to!r} must be > 0")
-    if failure_displacement is not None and not failure_displacement > 0:
-        raise ValueError(f"{where}: failure_displacement {failure_displacement!r} must be > 0 m")
 
 
 def _known_materials(where, names, materials):
@@ -87,12 +87,12 @@ class FactorOfSafety:
     f_levels: tuple = (1.0, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0)
     refine_to: float | None = 0.02
     tension: bool = False
-    ratio: float = 1e-5
-    max_steps: int = 20_000
-    failure_displacement: float | None = None
-    creep: float | None = None
-    watch: tuple = ()
-    settle: bool = False
+    ratio: float = DEFAULT_SOLVE.ratio           # the level's SolveSettings (settings.py)
+    max_steps: int = DEFAULT_SOLVE.max_steps
+    failure_displacement: float | None = DEFAULT_SOLVE.failure_displacement
+    creep: float | None = DEFAULT_SOLVE.creep
+    watch: tuple = DEFAULT_SOLVE.watch
+    settle: bool = DEFAULT_SOLVE.settle
 
     def check(self, i, groups, materials):
         where = f"stage {i} (factor_of_safety)"
@@ -100,8 +100,7 @@ class FactorOfSafety:
         check_levels(self.f_levels, f"{where}: f_levels")
         if list(self.f_levels) != sorted(self.f_levels):
             raise ValueError(f"{where}: f_levels must increase, got {list(self.f_levels)}")
-        _check_search(where, self.ratio, self.max_steps, self.refine_to,
-                      self.failure_displacement)
+        _check_search(where, self)
 
     def run(self, model, on_level=None):
         """Run the search; ``on_level``: optional callable(model, record) after each level."""
@@ -110,11 +109,9 @@ class FactorOfSafety:
         def apply(m, f_from, f):
             for n, mat in base.items():
                 m.set_material(n, **reduced_strength(mat, f, self.tension))
-        rec = search_failure(model, self.f_levels, apply, LimitRecord("F"), ratio=self.ratio,
-                             max_steps=self.max_steps,
-                             failure_displacement=self.failure_displacement, creep=self.creep,
-                             watch=tuple(self.watch), refine_to=self.refine_to,
-                             on_level=on_level, settle=self.settle)
+        rec = search_failure(model, self.f_levels, apply, SolveSettings.of(self),
+                             record=LimitRecord("F"), refine_to=self.refine_to,
+                             on_level=on_level)
         return _detail(rec, "factor_of_safety", "first_failed", "F")
 
 
@@ -128,12 +125,12 @@ class StrengthSchedule:
     property: str
     values: tuple
     refine_to: float | None = None
-    ratio: float = 1e-5
-    max_steps: int = 20_000
-    failure_displacement: float | None = None
-    creep: float | None = None
-    watch: tuple = ()
-    settle: bool = False
+    ratio: float = DEFAULT_SOLVE.ratio           # the level's SolveSettings (settings.py)
+    max_steps: int = DEFAULT_SOLVE.max_steps
+    failure_displacement: float | None = DEFAULT_SOLVE.failure_displacement
+    creep: float | None = DEFAULT_SOLVE.creep
+    watch: tuple = DEFAULT_SOLVE.watch
+    settle: bool = DEFAULT_SOLVE.settle
 
     def check(self, i, groups, materials):
         where = f"stage {i} (strength_schedule)"
@@ -146,17 +143,13 @@ class StrengthSchedule:
             raise ValueError(f"{where}: a schedule must lower {self.property} of "
                              f"{self.material!r} (now {now!r}) through decreasing values >= 0, "
                              f"got {list(self.values)}")
-        _check_search(where, self.ratio, self.max_steps, self.refine_to,
-                      self.failure_displacement)
+        _check_search(where, self)
 
     def run(self, model, on_level=None):
         """Run the search; ``on_level``: optional callable(model, record) after each level."""
         now = getattr(model.materials[self.material], self.property)
         rec = search_failure(model, self.values,
                              lambda m, a, b: m.set_material(self.material, **{self.property: b}),
-                             LimitRecord(self.property), ratio=self.ratio,
-                             max_steps=self.max_steps,
-                             failure_displacement=self.failure_displacement, creep=self.creep,
-                             watch=tuple(self.watch), refine_to=self.refine_to, start=now,
-                             on_level=on_level, settle=self.settle)
+                             SolveSettings.of(self), record=LimitRecord(self.property),
+                             refine_to=self.refine_to, start=now, on_level=on_level)
         return _detail(rec, "last_stable_value", "failure_value", "values")

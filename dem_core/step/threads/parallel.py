@@ -114,27 +114,31 @@ def contact_table(nc, block_a, block_b, nb, blocks):
 
 # below this many live contacts ``Model(threads=n)`` runs the serial kernels (same results)
 # when the step takes a region a step (a force besides gravity and the contacts'): starting a
-# region costs more than a second core gives there. Two threads against one, 2-core VM
-# (benchmarks/two_threads.py, docs/performance.md): 0.88x at 6,020 contacts, 1.04-1.19x at
-# 12,106, 1.20-1.42x at 18,328. The one-region step's threshold: ``region.MIN_CONTACTS``
+# region costs more than a second core gives there (two threads against one:
+# benchmarks/two_threads.py, the measured speed-ups in docs/performance.md, "Two threads").
 MIN_CONTACTS = 15_000
+# the same when the step is one region (gravity the only force besides the contacts':
+# ``region.run_steps_region``): two threads against one, 200-3,000 steps a call, gain from
+# about 1,800 contacts (docs/performance.md, "Many steps in one region")
+ONE_REGION_MIN_CONTACTS = 3_000
 
 
 # Each chunk calls forces.chunk_forces, the serial kernel's own loop (the same machine
 # arithmetic; inlining the contact update straight into the prange body instead gave different
 # round-off in numba 0.68: a shear displacement of 0 where the serial kernel had -3.5e-18 m).
 @njit(cache=True, parallel=True)
-def add_contact_forces_parallel(c, strength, s, cracks, time, rnd, par, edges, dfm):
+def add_contact_forces_parallel(c, strength, s, cracks, time, rnd, par, edges, zones):
     """Same inputs and effect as ``forces.add_contact_forces``, with the ``Parallel`` bundle
     (which also zeroes the forces: the step leaves that to this kernel)."""
     failures = par.failures
     chunks = par.first.shape[0] - 1
     for jp in prange(chunks):
         # numba types a prange index int64 when it types this function and uint64 when it
-        # builds the threads' function, and so compiled chunk_forces twice (80 s of a cold
-        # start each); the cast leaves one signature
+        # builds the threads' function, and so compiled chunk_forces twice (each a long cold
+        # start: docs/performance.md, "The serial kernel and numba's pipelines"); the cast
+        # leaves one signature
         j = np.int64(jp)
-        failures[j] = chunk_forces(c, strength, s, rnd, dfm, par, edges, j, cracks, time)
+        failures[j] = chunk_forces(c, strength, s, rnd, zones, par, edges, j, cracks, time)
     log_failures(c, cracks, time, par)
     shared_forces(c, s, par, edges)
 
@@ -200,3 +204,17 @@ def _same_chunk(first, p, k):
         if p < first[j] <= k:
             return False
     return True
+
+
+def threads_bundle(contacts, n_blocks, threads, edge_elements, one_region) -> Parallel:
+    """The Parallel bundle of a model on ``threads`` threads, or the empty one (serial) when
+    one thread is asked for or the model has too few live contacts for threads to pay:
+    ``MIN_CONTACTS``, or ``ONE_REGION_MIN_CONTACTS`` when the step is one parallel region
+    (``one_region``: gravity the only force besides the contacts')."""
+    if threads <= 1:
+        return no_parallel()
+    if contacts.n < (ONE_REGION_MIN_CONTACTS if one_region else MIN_CONTACTS):
+        return no_parallel()
+    import numba
+    numba.set_num_threads(threads)
+    return parallel_bundle(contacts, n_blocks, threads, edge_elements)

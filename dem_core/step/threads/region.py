@@ -5,9 +5,9 @@ contacts (``forces.chunk_forces``), then gravity and the moves of the blocks the
 (``parallel``: all their contacts are in the chunk, so their forces are complete); then,
 serially, the crack log, the shared blocks' forces, gravity and moves, the time, kinetic
 damping and the next step's kick. The threads stay in one region for all the steps of the
-call: entering a region costs its second thread a wake-up (43-85 us with numba's TBB layer on
-a 2-core VM, 5-6 % of a 1e4-block step and more than a 1e3-block step: docs/performance.md),
-paid here once per call (``Model.cycle`` calls every ``history_every`` steps) instead of once
+call: entering a region costs its second thread a wake-up (a few per cent of a 1e4-block step
+and more than a 1e3-block step: docs/performance.md, "Many steps in one region"), paid here
+once per call (``Model.cycle`` calls every ``history_every`` steps) instead of once
 per step.
 
 The threads keep step with three counters (``atomics``), never with a lock:
@@ -39,19 +39,18 @@ from .atomics import (compare_exchange, fetch_add, load_acquire, spin_pause, sto
 from ...components.gravity import add_gravity_to
 from ...contact.forces import chunk_forces
 from ..integration import DONE, NEED_SEARCH, UNSTABLE, advance_range, merge_status
-from .parallel import log_failures, shared_forces
+from .parallel import ONE_REGION_MIN_CONTACTS, log_failures, shared_forces
 from ..relaxation import end_step, next_kick
+from ..world import World
 
 __all__ = ["run_steps_region", "MIN_CONTACTS"]
 
 # below this many live contacts ``Model(threads=n)`` runs the serial kernels when the step is
-# this one region (gravity the only force besides the contacts'). Two threads against one,
-# 200-3,000 steps a call, 2-core VM, TBB (docs/performance.md, "Many steps in one region"):
-# 1.09-1.38x at about 1,800 contacts (326 blocks), 1.35-1.50x at 6,020 (1,084 blocks)
-MIN_CONTACTS = 3_000
+# this one region (``parallel.ONE_REGION_MIN_CONTACTS``)
+MIN_CONTACTS = ONE_REGION_MIN_CONTACTS
 
-# a waiting thread spins this many times (with x86 ``pause``: about 0.1-1 ms), then yields its
-# core at every turn
+# a waiting thread spins this many times (with x86 ``pause``), then yields its core at every
+# turn
 SPINS = 20_000
 
 # the slots of the int64 ``sync`` array
@@ -59,11 +58,11 @@ RELEASED, DONE_CHUNKS, END, STATUS, BAD = 0, 1, 2, 3, 4
 
 
 @njit(cache=True)
-def run_steps_region(nsteps, time, integ, s, p, c, strength, cracks, rnd, par, gravity, dfm):
+def run_steps_region(nsteps, time, integ, world, gravity, par):
     """Up to ``nsteps`` steps in one region; returns (steps done, time, status, block) as
-    ``step.run_steps``; the arguments are ``step.run_steps_threaded``'s. Only a step with an
-    unstable block differs from the serial one: the other chunks' blocks have moved (the run
-    stops there)."""
+    ``step.run_steps``; ``world`` the step's World record (``step/world.py``), ``gravity``
+    its only other force, ``par`` the Parallel bundle. Only a step with an unstable block
+    differs from the serial one: the other chunks' blocks have moved (the run stops there)."""
     if nsteps <= 0:
         return 0, time, DONE, -1
     chunks = par.first.shape[0] - 1
@@ -72,26 +71,29 @@ def run_steps_region(nsteps, time, integ, s, p, c, strength, cracks, rnd, par, g
     clock = np.array([time, next_kick(integ)])        # this step's time and kick (s)
     claimed = np.zeros(chunks, np.int64)
     results = np.empty((chunks, 2), np.int64)          # first unstable, last search, by chunk
-    _region(nsteps, integ, s, p, c, strength, cracks, rnd, par, gravity, dfm, sync, clock,
-            claimed, results)
+    _region(nsteps, integ, world.state, world.props, world.contacts, world.strength,
+            world.cracks, world.corners, world.zones, gravity, par, sync, clock, claimed,
+            results)
     return sync[END], clock[0], sync[STATUS], sync[BAD]
 
 
-# The scratch arrays are made by the caller: numba 0.68.1 read back, after a prange loop, the
-# values from before it of an array the same function had allocated and the loop had written
-# through a called function (docs/history.md).
+# The World's members one by one: numba's parallel region takes a record of arrays (integ,
+# par) but not a record of records (its gufunc wrapper refuses the World), so the region
+# takes the members and each thread's worker gets the World built again. The scratch arrays
+# are made by the caller: numba 0.68.1 read back, after a prange loop, the values from before
+# it of an array the same function had allocated and the loop had written through a called
+# function (docs/history.md).
 @njit(cache=True, parallel=True)
-def _region(nsteps, integ, s, p, c, strength, cracks, rnd, par, gravity, dfm, sync, clock,
-            claimed, results):
+def _region(nsteps, integ, s, p, c, strength, cracks, corners, zones, gravity, par, sync,
+            clock, claimed, results):
     """The threads, one ``_worker`` each."""
     for jp in prange(claimed.shape[0]):
-        _worker(np.int64(jp), nsteps, integ, s, p, c, strength, cracks, rnd, par, gravity,
-                dfm, sync, clock, claimed, results)
+        _worker(np.int64(jp), nsteps, integ, World(s, p, c, strength, cracks, corners, zones),
+                gravity, par, sync, clock, claimed, results)
 
 
 @njit(cache=True)
-def _worker(own, nsteps, integ, s, p, c, strength, cracks, rnd, par, gravity, dfm, sync, clock,
-            claimed, results):
+def _worker(own, nsteps, integ, world, gravity, par, sync, clock, claimed, results):
     """One thread's loop over the steps (module docstring)."""
     chunks = claimed.shape[0]
     n = 0
@@ -112,19 +114,19 @@ def _worker(own, nsteps, integ, s, p, c, strength, cracks, rnd, par, gravity, df
             j = (own + q) % chunks
             if not compare_exchange(claimed, j, n, n + 1):
                 continue                             # another thread has it
-            _chunk(j, integ, s, p, c, strength, cracks, rnd, par, gravity, dfm, clock,
-                   results)
+            _chunk(j, integ, world, gravity, par, clock, results)
             if fetch_add(sync, DONE_CHUNKS, 1) + 1 == (n + 1) * chunks:
-                _close(n, nsteps, integ, s, p, c, cracks, par, gravity, dfm, sync, clock,
-                       results)
+                _close(n, nsteps, integ, world, gravity, par, sync, clock, results)
         n += 1
 
 
 @njit(cache=True)
-def _chunk(j, integ, s, p, c, strength, cracks, rnd, par, gravity, dfm, clock, results):
+def _chunk(j, integ, world, gravity, par, clock, results):
     """Chunk j's contacts, then gravity and the moves of the blocks it owns."""
-    par.failures[j] = chunk_forces(c, strength, s, rnd, dfm, par, integ.edge_elements, j,
-                                   cracks, clock[0])
+    s, p = world.state, world.props
+    par.failures[j] = chunk_forces(world.contacts, world.strength, s, world.corners,
+                                   world.zones, par, integ.edge_elements, j, world.cracks,
+                                   clock[0])
     r0, r1 = par.own_offsets[j], par.own_offsets[j + 1]
     add_gravity_to(gravity, s, p, par.own_blocks, r0, r1)
     results[j, 0], results[j, 1] = advance_range(s, p, integ, clock[1], r0, r1,
@@ -132,11 +134,12 @@ def _chunk(j, integ, s, p, c, strength, cracks, rnd, par, gravity, dfm, clock, r
 
 
 @njit(cache=True)
-def _close(n, nsteps, integ, s, p, c, cracks, par, gravity, dfm, sync, clock, results):
+def _close(n, nsteps, integ, world, gravity, par, sync, clock, results):
     """The serial end of step n: crack log, shared blocks, status, time, kinetic damping, the
     next kick; then step n is released."""
+    s, p, c = world.state, world.props, world.contacts
     nb = s.pos.shape[0]
-    log_failures(c, cracks, clock[0], par)
+    log_failures(c, world.cracks, clock[0], par)
     shared_forces(c, s, par, integ.edge_elements)
     ns = par.shared.shape[0]
     add_gravity_to(gravity, s, p, par.shared, 0, ns)
@@ -155,7 +158,7 @@ def _close(n, nsteps, integ, s, p, c, cracks, par, gravity, dfm, sync, clock, re
         sync[END] = n                                # the step is not done: no time, no damping
     else:
         clock[0] += integ.dt
-        end_step(integ, s, p, dfm)
+        end_step(integ, s, p, world.zones)
         if status == NEED_SEARCH or n + 1 >= nsteps:
             sync[END] = n + 1
         else:
