@@ -12,6 +12,8 @@ The one-off trials and case investigations of benchmarks/trials/ are not run (tr
 Runs one after the other (never in parallel: the machine is shared), each in its own process
 so a crash in one does not stop the rest:
 
+- first_compile.py   numba's first compile of a serial model's step from an empty cache, rigid
+                     and deformable blocks (about 2 and 4 min; docs/performance.md)
 - error_vs_time.py   error against run time of the closed-form checks (docs/verification.md)
 - stability_map.py   DEM time-step margin map, continuum Newton map (docs/verification.md)
 - critical_step_cost.py  the step from the largest eigenvalue against the bounded one: gain
@@ -70,7 +72,8 @@ TAKES_REFERENCE = {"error_vs_time.py", "stability_map.py", "critical_step_cost.p
 def jobs(full: bool) -> list:
     """The rerunnable benchmarks, in order: [script, args...] each."""
     mode = "--full" if full else "--quick"
-    out = [["error_vs_time.py", mode], ["stability_map.py", mode],
+    out = [["first_compile.py"], ["first_compile.py", "--deformable"],
+           ["error_vs_time.py", mode], ["stability_map.py", mode],
            ["critical_step_cost.py", mode], ["leave_out.py", mode],
            ["support_cost.py"], ["deformable_cost.py"],
            ["performance.py", mode], ["performance.py", "--streams"], ["two_threads.py"],

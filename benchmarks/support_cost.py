@@ -360,7 +360,7 @@ def _counts(r):
 
 def _draw(ax, m, run, LineCollection, PolyCollection):
     """The lowest two benches with their blocks, cables and liner."""
-    from dem_core.contact.detection import world_vertices
+    from dem_core.contact.broad import world_vertices
 
     p, s = m.props, m.state
     wv = world_vertices(s.pos, s.rot, p.vertex_offsets, p.local_vertices)

@@ -348,6 +348,8 @@ class Model:
         world, parts = self.world(), self.parts()
         par = self.threads_bundle(parts)
         if par.offsets.shape[0] == 0:
+            if self.options.deformable is None:    # rigid: the zones' code is not compiled
+                world = world._replace(zones=None)
             kernel, args = stepper.run_steps, (n, self.time, self.integrator(), world, parts)
         else:
             kernel = stepper.run_steps_threaded

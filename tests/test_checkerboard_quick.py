@@ -67,10 +67,13 @@ def test_every_ucs_fails_as_t_is_lowered(quick):
     assert all(t is not None for t in rows.values())
 
 
-@pytest.mark.xfail(strict=True, reason="measured (2026-11-27): with 20,000 and 40,000 steps a "
-                   "level the quick plan fails at T = 1.0 MPa at UCS 76, 50 and 30 alike: the "
-                   "trend is not resolved by the plan's levels (1.5, 1.0, ...); with 5,000 "
-                   "steps it appeared (0.35 / 1.0 / 1.0), a step-budget artefact")
+@pytest.mark.xfail(strict=False, reason="measured: the quick's answer is the host's, not the "
+                   "rock's. With 20,000 and 40,000 steps a level it failed at T = 1.0 MPa at UCS "
+                   "76, 50 and 30 alike on an Intel Xeon host (2026-11-27); on an AMD EPYC host "
+                   "the same code (37c9c31, and today's, member for member) gives 0.65 / 1.0 / "
+                   "1.0, the trend; with 5,000 steps it appeared (0.35 / 1.0 / 1.0): a "
+                   "step-budget artefact that last bits of arithmetic tip either way, so the "
+                   "test passes on some hosts (not strict; docs/cases/checkerboard.md)")
 def test_t_at_failure_rises_as_ucs_falls(quick):
     """Table 7.4's trend: the slope fails at a higher T when UCS (so c and friction) is lower
     than the weathered gneiss's own 76 MPa."""

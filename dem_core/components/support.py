@@ -219,7 +219,7 @@ def _join(bundle, new: dict):
 
 def _block_polygons(model):
     p, s = model.props, model.state
-    from ..contact.detection import world_vertices
+    from ..contact.broad import world_vertices
     wv = world_vertices(s.pos, s.rot, p.vertex_offsets, p.local_vertices)
     off = p.vertex_offsets
     act = np.flatnonzero(p.active > 0)

@@ -1,4 +1,5 @@
-"""Contact search: broad phase on a cell grid, narrow phase vertex-against-edge.
+"""Contact search: broad phase on a cell grid (``broad``), narrow phase vertex-against-edge
+(``narrow``), then which contacts survive and which candidates become new contacts (here).
 
 ``update_contacts`` is run by the driver when some block has moved more than half the search
 margin since the last search (``step.run_steps`` status 1):
@@ -34,23 +35,12 @@ from .contacts import ANCHOR_A, INTACT, UNBONDED, Contacts
 from ..step.kinematics import body_point, contact_normal, unrotate
 from .boundary_points import deformed_points
 from .rounding import is_rounded, no_rounding, rounded_contact
+from .broad import boxes, grid_pairs, world_vertices
+from .narrow import SUPPORT_SLOPE, _supports, narrow_phase
 
 __all__ = ["update_contacts", "compact", "block_containing", "world_vertices", "grid_pairs",
            "SUPPORT_SLOPE"]
 
-# A vertex contacts a face only while neither of its block's edges at the vertex runs into
-# that face steeper than this slope (sin of about 11.5 deg; ``_supports``).
-SUPPORT_SLOPE = 0.2
-
-
-@njit(cache=True)
-def world_vertices(pos, rot, offsets, local):
-    """(nv, 2) world coordinates of every block vertex, m."""
-    out = np.empty_like(local)
-    for b in range(pos.shape[0]):
-        for j in range(offsets[b], offsets[b + 1]):
-            out[j, 0], out[j, 1] = body_point(pos, rot, b, local[j, 0], local[j, 1])
-    return out
 
 
 @njit(cache=True)
@@ -118,257 +108,6 @@ def _rounded_touches(s, cand, rnd):
 
 
 @njit(cache=True)
-def _boxes(wv, offsets, active, margin):
-    nb = offsets.shape[0] - 1
-    lo = np.empty((nb, 2))
-    hi = np.empty((nb, 2))
-    for b in range(nb):
-        lo[b, 0] = lo[b, 1] = np.inf
-        hi[b, 0] = hi[b, 1] = -np.inf
-        if not active[b]:
-            continue
-        for j in range(offsets[b], offsets[b + 1]):
-            for d in range(2):
-                lo[b, d] = min(lo[b, d], wv[j, d] - margin)
-                hi[b, d] = max(hi[b, d], wv[j, d] + margin)
-    return lo, hi
-
-
-@njit(cache=True)
-def grid_pairs(lo, hi, active, cell):
-    """(np, 2) int64 pairs (i < j) of active blocks whose boxes overlap."""
-    nb = lo.shape[0]
-    x0, y0, x1, y1 = np.inf, np.inf, -np.inf, -np.inf
-    for b in range(nb):
-        if active[b]:
-            x0, y0 = min(x0, lo[b, 0]), min(y0, lo[b, 1])
-            x1, y1 = max(x1, hi[b, 0]), max(y1, hi[b, 1])
-    if x1 < x0:
-        return np.zeros((0, 2), np.int64)
-    while ((x1 - x0) / cell + 1) * ((y1 - y0) / cell + 1) > 4 * nb + 64:
-        cell *= 1.5                               # bound the number of cells
-    ncx = int((x1 - x0) / cell) + 1
-    ncy = int((y1 - y0) / cell) + 1
-    count = np.zeros(ncx * ncy + 1, np.int64)
-    for b in range(nb):
-        if active[b]:
-            for iy in range(int((lo[b, 1] - y0) / cell), int((hi[b, 1] - y0) / cell) + 1):
-                for ix in range(int((lo[b, 0] - x0) / cell), int((hi[b, 0] - x0) / cell) + 1):
-                    count[iy * ncx + ix + 1] += 1
-    start = np.cumsum(count)
-    fill = start.copy()
-    members = np.empty(start[-1], np.int64)
-    for b in range(nb):
-        if active[b]:
-            for iy in range(int((lo[b, 1] - y0) / cell), int((hi[b, 1] - y0) / cell) + 1):
-                for ix in range(int((lo[b, 0] - x0) / cell), int((hi[b, 0] - x0) / cell) + 1):
-                    members[fill[iy * ncx + ix]] = b
-                    fill[iy * ncx + ix] += 1
-    pairs = np.empty((4 * nb + 16, 2), np.int64)
-    n = 0
-    for c in range(ncx * ncy):
-        for p in range(start[c], start[c + 1]):
-            for q in range(p + 1, start[c + 1]):
-                i, j = members[p], members[q]
-                if lo[i, 0] > hi[j, 0] or lo[j, 0] > hi[i, 0] or lo[i, 1] > hi[j, 1] \
-                        or lo[j, 1] > hi[i, 1]:
-                    continue
-                cx = int((max(lo[i, 0], lo[j, 0]) - x0) / cell)
-                cy = int((max(lo[i, 1], lo[j, 1]) - y0) / cell)
-                if cy * ncx + cx != c:
-                    continue                      # reported by another cell
-                if n == pairs.shape[0]:
-                    bigger = np.empty((2 * n, 2), np.int64)
-                    bigger[:n] = pairs
-                    pairs = bigger
-                pairs[n, 0], pairs[n, 1] = min(i, j), max(i, j)
-                n += 1
-    return pairs[:n]
-
-
-@njit(cache=True)
-def _outward(wv, offsets, blk, e):
-    """Unit outward normal of edge e (first vertex index) of CCW block ``blk``."""
-    f = e + 1 if e + 1 < offsets[blk + 1] else offsets[blk]
-    ex, ey = wv[f, 0] - wv[e, 0], wv[f, 1] - wv[e, 1]
-    ln = math.hypot(ex, ey)
-    return ey / ln, -ex / ln
-
-
-@njit(cache=True)
-def _to_segment(wv, offsets, blk, e, x, y):
-    """Distance (m) from (x, y) to edge e of block ``blk`` as a segment."""
-    f = e + 1 if e + 1 < offsets[blk + 1] else offsets[blk]
-    ex, ey = wv[f, 0] - wv[e, 0], wv[f, 1] - wv[e, 1]
-    s = ((x - wv[e, 0]) * ex + (y - wv[e, 1]) * ey) / (ex * ex + ey * ey)
-    s = min(max(s, 0.0), 1.0)
-    return math.hypot(x - wv[e, 0] - s * ex, y - wv[e, 1] - s * ey)
-
-
-@njit(cache=True)
-def _diagonal_at_crossing(wv, offsets, B, be, f, x, y, a1x, a1y, a2x, a2y, margin):
-    """True when A's vertex sits on a corner of B and A's two faces there continue B's two
-    faces (each antiparallel to one of them): the blocks are diagonal neighbours where two
-    straight lines cross (an X, e.g. a flaw line crossing a joint). They cannot overlap by a
-    small translation without first overlapping the blocks they share edges with, and a
-    contact between them has no defined normal: it would lock slip along either line."""
-    near = 0.25 * margin
-    for corner, other in ((be, be - 1 if be > offsets[B] else offsets[B + 1] - 1), (f, f)):
-        if math.hypot(x - wv[corner, 0], y - wv[corner, 1]) > near:
-            continue
-        b1x, b1y = _outward(wv, offsets, B, be)
-        b2x, b2y = _outward(wv, offsets, B, other)
-        if (a1x * b1x + a1y * b1y < -0.999 and a2x * b2x + a2y * b2y < -0.999) or \
-                (a1x * b2x + a1y * b2y < -0.999 and a2x * b1x + a2y * b1y < -0.999):
-            return True
-    return False
-
-
-@njit(cache=True)
-def _point_touch(wv, offsets, A, v, B, tie):
-    """True when A's vertex v sits on a corner of B (within ``tie``) and no edge of A there
-    runs along an edge of B there in the same direction: the two blocks meet at that one point
-    only (diagonal neighbours where two lines meet, e.g. where the cells of two beds meet on a
-    bedding joint). Such a touch has no contact length and no defined normal; a contact there
-    would add stiffness and stress to an interface the shared edges already carry."""
-    vn = v + 1 if v + 1 < offsets[A + 1] else offsets[A]
-    vp = v - 1 if v > offsets[A] else offsets[A + 1] - 1
-    for w in range(offsets[B], offsets[B + 1]):
-        if math.hypot(wv[v, 0] - wv[w, 0], wv[v, 1] - wv[w, 1]) > tie:
-            continue
-        wn = w + 1 if w + 1 < offsets[B + 1] else offsets[B]
-        wp = w - 1 if w > offsets[B] else offsets[B + 1] - 1
-        for a in (vn, vp):
-            ax, ay = wv[a, 0] - wv[v, 0], wv[a, 1] - wv[v, 1]
-            la = math.hypot(ax, ay)
-            for b in (wn, wp):
-                bx, by = wv[b, 0] - wv[w, 0], wv[b, 1] - wv[w, 1]
-                if ax * bx + ay * by > 0.999 * la * math.hypot(bx, by):
-                    return False            # they share a face from this corner
-        return True
-    return False
-
-
-@njit(cache=True)
-def _supports(wv, offsets, A, v, ox, oy, slope):
-    """True if vertex v is block A's deepest point towards B's face of outward normal (ox, oy),
-    within ``slope``: neither of A's two edges at v runs into B (edge direction . normal
-    >= -slope, i.e. tilted by less than asin(slope) towards the face).
-
-    A vertex pressed into a face can only be pushed out along that face's normal if the rest
-    of A lies behind it. Near B's corner a vertex can be nearer to the adjacent face's line
-    than to the face it really rests on (two blocks' corners meeting on a joint: the lower
-    block's corner sits 1 um from the upper block's free end face and 30 um into its joint
-    face); a contact with the end face there would be a spring across the joint that locks the
-    slip, growing with the shear. Edge-to-edge contacts (A's edge along B's face, slope 0)
-    pass while the faces are within asin(slope) of parallel.
-    """
-    vn = v + 1 if v + 1 < offsets[A + 1] else offsets[A]
-    vp = v - 1 if v > offsets[A] else offsets[A + 1] - 1
-    for w in (vn, vp):
-        ex, ey = wv[w, 0] - wv[v, 0], wv[w, 1] - wv[v, 1]
-        if ex * ox + ey * oy < -slope * math.hypot(ex, ey):
-            return False
-    return True
-
-
-@njit(cache=True)
-def _vertex_candidates(A, B, wv, offsets, lo, hi, margin, covered, slope, out, n):
-    """Append candidates (A, vertex, B, edge) of A's vertices near B to ``out``.
-
-    The edge is chosen among B's faces that A's vertex supports (``_supports``): for a vertex
-    outside B, those at the largest outward signed distance (the face(s) it is outside of);
-    for a vertex inside B, the nearest supported face if it is at most ``margin`` deeper than
-    the nearest face. Where faces tie (a vertex at or beside
-    B's corner) the one that faces A's wedge best (most negative dot of B's normal with the
-    normals of A's two edges at the vertex). A vertex outside B whose wedge does not face the
-    edge (both dots >= -0.05: side by side) is no contact.
-
-    A face of B that an intact bond glues to a neighbour (``covered``) cannot be touched: it is
-    never chosen, and a vertex outside B whose nearest faces of B are all covered gets no
-    contact (a vertex sliding past the corner between two bonded blocks must meet the next
-    block's face, not the buried side face between them, which would lock the slip).
-    """
-    tie = 1e-3 * margin
-    for v in range(offsets[A], offsets[A + 1]):
-        x, y = wv[v, 0], wv[v, 1]
-        if x < lo[B, 0] or x > hi[B, 0] or y < lo[B, 1] or y > hi[B, 1]:
-            continue
-        best = -np.inf
-        for e in range(offsets[B], offsets[B + 1]):
-            ox, oy = _outward(wv, offsets, B, e)
-            best = max(best, (x - wv[e, 0]) * ox + (y - wv[e, 1]) * oy)
-        if best > margin:
-            continue
-        vp = v - 1 if v > offsets[A] else offsets[A + 1] - 1
-        a1x, a1y = _outward(wv, offsets, A, v)
-        a2x, a2y = _outward(wv, offsets, A, vp)
-        # nearest eligible face: outside B only the faces at `best`; inside, a supported face
-        # at most a margin deeper than the nearest one (a vertex that just grazes a face it
-        # does not support is the other block's vertex's contact, not one with a far face)
-        low = best - tie if best >= 0.0 else best - margin
-        near = -np.inf
-        for e in range(offsets[B], offsets[B + 1]):
-            ox, oy = _outward(wv, offsets, B, e)
-            d = (x - wv[e, 0]) * ox + (y - wv[e, 1]) * oy
-            if covered[e] or d < low or not _supports(wv, offsets, A, v, ox, oy, slope):
-                continue
-            near = max(near, d)
-        if near == -np.inf:
-            continue
-        # among faces that face A's wedge equally (the collinear pieces of a side split where
-        # neighbours meet it), the piece the vertex projects onto: the first piece of a split
-        # side may lie far along it, and its segment test below would reject the contact
-        be, bf, bseg = -1, np.inf, np.inf
-        for e in range(offsets[B], offsets[B + 1]):
-            ox, oy = _outward(wv, offsets, B, e)
-            d = (x - wv[e, 0]) * ox + (y - wv[e, 1]) * oy
-            if covered[e] or d < near - tie or not _supports(wv, offsets, A, v, ox, oy, slope):
-                continue
-            facing = min(ox * a1x + oy * a1y, ox * a2x + oy * a2y)
-            seg = _to_segment(wv, offsets, B, e, x, y)
-            if facing < bf - 1e-9 or (facing <= bf + 1e-9 and seg < bseg):
-                be, bf, bseg = e, facing, seg
-        if be < 0 or (best >= 0.0 and bf >= -0.05):
-            continue
-        f = be + 1 if be + 1 < offsets[B + 1] else offsets[B]
-        ex, ey = wv[f, 0] - wv[be, 0], wv[f, 1] - wv[be, 1]
-        ln2 = ex * ex + ey * ey
-        s = ((x - wv[be, 0]) * ex + (y - wv[be, 1]) * ey) / ln2
-        if _diagonal_at_crossing(wv, offsets, B, be, f, x, y, a1x, a1y, a2x, a2y, margin):
-            continue
-        if _point_touch(wv, offsets, A, v, B, tie):
-            continue
-        if (s < 0.0 or s > 1.0) and bseg > margin:   # near a corner: distance to the segment
-            continue
-        if n == out.shape[0]:
-            return n, True
-        out[n, 0], out[n, 1], out[n, 2], out[n, 3] = A, v, B, be
-        n += 1
-    return n, False
-
-
-@njit(cache=True)
-def narrow_phase(pairs, wv, offsets, lo, hi, margin, covered, slope=SUPPORT_SLOPE):
-    """(m, 4) int64 candidates [A, vertex of A, B, first vertex of B's edge]."""
-    out = np.empty((8 * pairs.shape[0] + 16, 4), np.int64)
-    n = 0
-    for p in range(pairs.shape[0]):
-        for A, B in ((pairs[p, 0], pairs[p, 1]), (pairs[p, 1], pairs[p, 0])):
-            full = True
-            while full:
-                n, full = _vertex_candidates(A, B, wv, offsets, lo, hi, margin, covered, slope,
-                                             out, n)
-                if full:                          # grow and redo this block's vertices
-                    bigger = np.empty((2 * out.shape[0], 4), np.int64)
-                    bigger[:n] = out[:n]
-                    out = bigger
-                    while n > 0 and out[n - 1, 0] == A and out[n - 1, 2] == B:
-                        n -= 1
-    return out[:n]
-
-
-@njit(cache=True)
 def _fix_ring(edge_b, block_b, offsets):
     """Index of the end vertex of each contact's edge (wraps within the block's ring)."""
     out = np.empty(edge_b.shape[0], np.int64)
@@ -382,6 +121,9 @@ def _fix_ring(edge_b, block_b, offsets):
     return out
 
 
+# A kernel over flat arrays with more than ten of them: it runs once per search over all
+# candidates, and the arrays are the columns of two sorted tables (a record would be built
+# for one call only)
 @njit(cache=True)
 def _accept(keys_kept, px, py, nx, ny, cand_keys, cx, cy, cnx, cny, merge):
     """For sorted key arrays: accept candidates with no kept/accepted contact of the same pair
@@ -455,7 +197,7 @@ def update_contacts(c: Contacts, s, p, table, new_material: int, margin: float, 
     """
     rnd = no_rounding() if rnd is None else rnd
     wv = world_vertices(s.pos, s.rot, p.vertex_offsets, p.local_vertices)
-    lo, hi = _boxes(wv, p.vertex_offsets, p.active, margin)
+    lo, hi = boxes(wv, p.vertex_offsets, p.active, margin)
     cell = 2.0 * float(np.median(p.radius[p.active > 0])) + 2 * margin if p.active.any() else 1.0
     pairs = grid_pairs(lo, hi, p.active, cell)
     cand = narrow_phase(pairs, wv, p.vertex_offsets, lo, hi, margin,
@@ -464,6 +206,22 @@ def update_contacts(c: Contacts, s, p, table, new_material: int, margin: float, 
     keep, px, py, qx, qy = _survives_kernel(c, s, p, end, table.bonded(), wv, margin,
                                             SUPPORT_SLOPE, rnd)
     kept = np.flatnonzero(keep)
+    cand, kept = _new_candidates(c, s, p, wv, cand, kept, (px, py, qx, qy), margin, rnd)
+    m = cand.shape[0]
+    new = compact(c, kept)
+    if new.capacity < new.n + m:
+        new = new.with_capacity(int(1.5 * (new.n + m)) + 64)
+    if m:
+        _append(new, cand, s, p, wv, _touched_material(p, table, new_material, cand), rnd)
+    return new, m
+
+
+def _new_candidates(c, s, p, wv, cand, kept, survivor_points, margin, rnd):
+    """(candidates to add, survivors in block-pair order): the narrow phase's candidates
+    without those a surviving contact of the same pair already covers (``_accept``), and one
+    contact per (vertex of A, block B): a vertex at B's corner is not in contact with both of
+    B's faces there (a second contact would double the stiffness and lock motion)."""
+    px, py, qx, qy = survivor_points
     nb = len(p.mass)
     keys = np.minimum(c.block_a[kept], c.block_b[kept]).astype(np.int64) * nb + \
         np.maximum(c.block_a[kept], c.block_b[kept])
@@ -483,36 +241,34 @@ def update_contacts(c: Contacts, s, p, table, new_material: int, margin: float, 
         cp, cn = _rounded_touches(s, cand, rnd)
     acc = _accept(keys, px[kept], py[kept], qx[kept], qy[kept], ckeys, cp[:, 0], cp[:, 1],
                   cn[:, 0], cn[:, 1], margin)
-    # one contact per (vertex of A, block B): a vertex at B's corner is not in contact with
-    # both of B's faces there (a second contact would double the stiffness and lock motion)
     have = c.vertex_a[kept].astype(np.int64) * nb + c.block_b[kept]
     acc &= ~np.isin(cand[:, 1] * nb + cand[:, 2], have[c.vertex_a[kept] >= 0])
-    cand = cand[acc]
+    return cand[acc], kept
+
+
+def _append(new, cand, s, p, wv, material, rnd):
+    """Write the candidates ``cand`` (A, vertex, B, edge) as new unbonded, unstressed contacts
+    of ``material`` after the live rows of ``new`` (which has the capacity)."""
     m = cand.shape[0]
-    new = compact(c, kept)
-    if new.capacity < new.n + m:
-        new = new.with_capacity(int(1.5 * (new.n + m)) + 64)
-    if m:
-        point_b, normal_b, L = _new_rows(p, s, cand, wv)
-        r = slice(new.n, new.n + m)
-        new.block_a[r], new.block_b[r] = cand[:, 0], cand[:, 2]
-        new.vertex_a[r], new.edge_b[r] = cand[:, 1], cand[:, 3]
-        new.point_a[r] = p.local_vertices[cand[:, 1]]
-        new.point_b[r] = point_b
-        new.normal_b[r] = normal_b
-        new.length[r] = L
-        new.face[r] = 0                           # a vertex against a face
-        new.anchor[r] = ANCHOR_A
-        new.partner[r] = -1
-        new.material[r] = _touched_material(p, table, new_material, cand)
-        new.broken[r] = UNBONDED
-        new.slipping[r] = 0
-        for name in ("sn", "ts", "sn_elastic", "us", "up", "un"):
-            getattr(new, name)[r] = 0.0
-        new.count[0] += m
-        if rnd.radius > 0.0:
-            _rounded_points(new, s, np.arange(r.start, r.stop), rnd)
-    return new, m
+    point_b, normal_b, L = _new_rows(p, s, cand, wv)
+    r = slice(new.n, new.n + m)
+    new.block_a[r], new.block_b[r] = cand[:, 0], cand[:, 2]
+    new.vertex_a[r], new.edge_b[r] = cand[:, 1], cand[:, 3]
+    new.point_a[r] = p.local_vertices[cand[:, 1]]
+    new.point_b[r] = point_b
+    new.normal_b[r] = normal_b
+    new.length[r] = L
+    new.face[r] = 0                           # a vertex against a face
+    new.anchor[r] = ANCHOR_A
+    new.partner[r] = -1
+    new.material[r] = material
+    new.broken[r] = UNBONDED
+    new.slipping[r] = 0
+    for name in ("sn", "ts", "sn_elastic", "us", "up", "un"):
+        getattr(new, name)[r] = 0.0
+    new.count[0] += m
+    if rnd.radius > 0.0:
+        _rounded_points(new, s, np.arange(r.start, r.stop), rnd)
 
 
 def _touched_material(p, table, default, cand):

@@ -31,7 +31,8 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
-from numba import njit
+from numba import njit, types
+from numba.extending import overload
 from numba.core.errors import NumbaPerformanceWarning
 
 from .boundary_points import deformed_points, rest_points
@@ -43,6 +44,59 @@ from ..step.state import no_parallel
 
 __all__ = ["add_contact_forces", "chunk_forces", "contact_update", "log_crack",
            "edge_correction"]
+
+
+def contact_points(k, c, s, zones, xb, yb):
+    """(xa, ya, xb, yb): contact k's points, A's the body point of its vertex and B's the
+    given (xb, yb), or, on deformable blocks, both moved by the zones' displacement
+    (``boundary_points.deformed_points``). ``zones`` None: rigid blocks (typed below: the
+    deformable branch is then not compiled at all)."""
+    raise NotImplementedError("numba-only: called from compiled code")
+
+
+@overload(contact_points, inline="always")
+def _contact_points(k, c, s, zones, xb, yb):
+    if isinstance(zones, types.NoneType):
+        def rigid(k, c, s, zones, xb, yb):
+            xa, ya = body_point(s.pos, s.rot, c.block_a[k], c.point_a[k, 0], c.point_a[k, 1])
+            return xa, ya, xb, yb
+        return rigid
+
+    def any_blocks(k, c, s, zones, xb, yb):
+        if zones.point_offsets.shape[0] == 0:
+            xa, ya = body_point(s.pos, s.rot, c.block_a[k], c.point_a[k, 0], c.point_a[k, 1])
+            return xa, ya, xb, yb
+        return deformed_points(k, c, s, zones)     # points moved by the zones' displacement
+    return any_blocks
+
+
+def reanchor_on_zones(k, c, s, zones, nx, ny):
+    """After a contact k on a deformable block failed or slipped: its moved point(s) back to
+    rest places (``boundary_points.rest_points``), and its gap and offset measured anew from
+    them (a rest place is found at the displacement of the stretch it came from, not exactly
+    the one it goes to: the next increments are measured from the points as they are, else
+    each move adds a spurious increment and slipping or open contacts pump energy into the
+    zones). ``zones`` None or empty: nothing."""
+    raise NotImplementedError("numba-only: called from compiled code")
+
+
+@overload(reanchor_on_zones, inline="always")
+def _reanchor_on_zones(k, c, s, zones, nx, ny):
+    if isinstance(zones, types.NoneType):
+        def rigid(k, c, s, zones, nx, ny):
+            return None
+        return rigid
+
+    def any_blocks(k, c, s, zones, nx, ny):
+        a, b = c.block_a[k], c.block_b[k]
+        off = zones.point_offsets
+        if off.shape[0] != 0 and (off[a + 1] > off[a] or off[b + 1] > off[b]):
+            rest_points(k, c, s, zones)
+            xa2, ya2, xb2, yb2 = deformed_points(k, c, s, zones)
+            c.un[k] = (xb2 - xa2) * nx + (yb2 - ya2) * ny
+            c.us[k] = (yb2 - ya2) * nx - (xb2 - xa2) * ny
+        return None
+    return any_blocks
 
 
 @njit(cache=True, inline="always")
@@ -63,10 +117,7 @@ def contact_update(k, c, strength, s, rnd, zones):
         xa, ya, nx, ny, u_n = rounded_contact(rnd, s, a, b, c.vertex_a[k], c.edge_b[k])
         reach = u_n + 2.0 * rnd.radius     # B's point sits this far across the normal
     else:
-        if zones.point_offsets.shape[0] == 0:
-            xa, ya = body_point(s.pos, s.rot, a, c.point_a[k, 0], c.point_a[k, 1])
-        else:                              # points moved by the zones' displacement
-            xa, ya, xb, yb = deformed_points(k, c, s, zones)
+        xa, ya, xb, yb = contact_points(k, c, s, zones, xb, yb)
         nx, ny = contact_normal(s, a, b, c.face[k], c.normal_b[k, 0], c.normal_b[k, 1])
         u_n = (xb - xa) * nx + (yb - ya) * ny
         reach = u_n
@@ -85,17 +136,7 @@ def contact_update(k, c, strength, s, rnd, zones):
         if event == 1 or event == 2:
             c.broken[k] = event
         _reanchor(k, c, s, xa, ya, xb, yb, reach, nx, ny)
-        if zones.point_offsets.shape[0] != 0 and (
-                zones.point_offsets[a + 1] > zones.point_offsets[a] or
-                zones.point_offsets[b + 1] > zones.point_offsets[b]):
-            rest_points(k, c, s, zones)       # the moved point(s) back to rest places
-            # the gap and offset the moved points have now (a rest place is found at the
-            # displacement of the stretch it came from, not exactly the one it goes to): the
-            # next increments are measured from them, else each move adds a spurious
-            # increment and slipping or open contacts pump energy into the zones
-            xa2, ya2, xb2, yb2 = deformed_points(k, c, s, zones)
-            c.un[k] = (xb2 - xa2) * nx + (yb2 - ya2) * ny
-            c.us[k] = (yb2 - ya2) * nx - (xb2 - xa2) * ny
+        reanchor_on_zones(k, c, s, zones, nx, ny)
     # the point the force acts at
     anchor = c.anchor[k]
     px = xa if anchor == ANCHOR_A else (xb if anchor == ANCHOR_B else 0.5 * (xa + xb))
@@ -225,6 +266,8 @@ def log_crack(cracks, time, xa, ya, event, a, b, m):
 # expected here, so that one warning is silenced.
 warnings.filterwarnings("ignore", category=NumbaPerformanceWarning,
                         message=r"(?s).*parallel=True.*no transformation for parallel")
+# Over 60 lines: the one contact loop of the serial and the threaded kernels (the law
+# compiles once); split into calls, each would copy and reference-count the bundles per contact
 @njit(cache=True, parallel=True)
 def chunk_forces(c, strength, s, rnd, zones, par, edges, j, cracks, time):
     """The contact loop of both kernels; returns the number of bond failures it kept.

@@ -199,6 +199,8 @@ def _face_of_a(rnd, x, y, va, w, cx, cy, sign):
     return x + t * ux, y + t * uy, nx, ny, (cx - x) * nx + (cy - y) * ny
 
 
+# More than ten arguments: inlined into the contact update, they are the scalars the caller
+# has already computed (grouping them would only rename them)
 @njit(cache=True, inline="always")
 def _corner_on_face_of_a(rnd, s, a, b, va, corner, xc, yc, nx, ny, dist):
     """Corner against corner (A's centre (xc, yc) against B's ``corner``, normal (nx, ny),

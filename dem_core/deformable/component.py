@@ -143,8 +143,9 @@ def no_deformable() -> Deformable:
                       np.zeros(0, np.int8))
 
 
-def is_empty(zones: Deformable) -> bool:
-    return zones.point_offsets.shape[0] == 0
+def is_empty(zones) -> bool:
+    """No deformable block: ``zones`` None (the rigid step's form) or an empty bundle."""
+    return zones is None or zones.point_offsets.shape[0] == 0
 
 
 def deformable_bundle(props, size, E, nu, density, strength=None, origin=None,
@@ -205,6 +206,8 @@ def add_deformable(zones, c, s, p, kick):
     """The zones' step (module docstring): elastic and contact forces on the gridpoints, the
     rigid part of that load taken off, damping, leapfrog (velocities kicked by ``kick`` s: dt,
     or dt / 2 on the step after a kinetic-damping stop, as the blocks), mean motion removed."""
+    if zones is None:                    # rigid blocks: numba leaves the rest out
+        return
     if zones.point_offsets.shape[0] == 0:
         return
     dt, alpha = zones.control[0], zones.control[1]

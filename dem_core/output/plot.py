@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..contact.detection import world_vertices
+from ..contact.broad import world_vertices
 
 __all__ = ["plot_model", "block_picture", "draw_picture", "magnification"]
 

@@ -40,8 +40,9 @@ def next_kick(integ):
 def end_step(integ, s, p, zones):
     """Kinetic damping after the blocks moved (a stop also stops the zones)."""
     kinetic_damping(integ, s, p, zones)
-    if integ.kinetic[2] != 0.0:
-        zones.v[:] = 0.0
+    if zones is not None:                # (None: rigid blocks, this is left out)
+        if integ.kinetic[2] != 0.0:
+            zones.v[:] = 0.0
 
 
 @njit(cache=True)
@@ -55,7 +56,9 @@ def kinetic_damping(integ, s, p, zones):
     if k[1] < integ.kinetic_interval:
         return
     k[1] = 0.0
-    ke = free_kinetic_energy(s, p) + zone_kinetic_energy(zones, p.active)
+    ke = free_kinetic_energy(s, p)
+    if zones is not None:
+        ke += zone_kinetic_energy(zones, p.active)
     if ke < k[0]:
         stop_free_motion(s, p)
         ke = 0.0

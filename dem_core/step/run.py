@@ -120,10 +120,12 @@ def run_steps_threaded(nsteps, time, integ, world, parts, par):
 def only_gravity(parts, zones):
     """True when none of the force components but gravity is in the scene (their bundles
     empty: no applied loads, water, cables, liners, servos or deformable blocks)."""
+    if zones is not None:
+        if zones.point_offsets.shape[0] != 0:
+            return False
     return (parts.loads.blocks.shape[0] == 0 and parts.water.contact.shape[0] == 0
             and parts.water.face_block.shape[0] == 0 and parts.cables.node_pos.shape[0] == 0
-            and parts.liners.node_pos.shape[0] == 0 and parts.servo.offsets.shape[0] <= 1
-            and zones.point_offsets.shape[0] == 0)
+            and parts.liners.node_pos.shape[0] == 0 and parts.servo.offsets.shape[0] <= 1)
 
 
 @njit(cache=True)
