@@ -116,9 +116,12 @@ def ramp_run(scene, params, member: dict, failure_displacement: float, creep: fl
     saved = load_resumable(checkpoint, RampRecord) if checkpoint else None
     if saved is None:
         threads = min(member.get("threads", 1), numba.config.NUMBA_NUM_THREADS)
-        model = build_model(sc, threads=threads, damping=member.get("damping", DAMPING),
-                            kinetic_damping=member.get("kinetic_damping", KINETIC_DAMPING),
-                            **member.get("solver", {}))
+        # the case's solver setting wins over the member's own damping (one keyword each)
+        model = build_model(sc, **{"threads": threads,
+                                   "damping": member.get("damping", DAMPING),
+                                   "kinetic_damping": member.get("kinetic_damping",
+                                                                 KINETIC_DAMPING),
+                                   **member.get("solver", {})})
         check_stages(sc.stages, set(model.blocks.groups), model.materials)
     model, resume = saved if saved is not None else (model, None)
     earlier = 0.0 if resume is None else resume.seconds

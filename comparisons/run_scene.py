@@ -50,8 +50,14 @@ INTACT = ("flaw:", "boundary:")             # bonds through intact rock (not joi
 
 
 def scene_folder(scene, out) -> Path:
-    """``<out>/<scene name>`` (characters other than letters, digits, ".", "-", "_" as "_")."""
-    return Path(out) / (re.sub(r"[^\w.\-]", "_", scene.name) or "scene")
+    """``<out>/<scene name>`` (characters other than letters, digits, ".", "-", "_" as "_").
+    A name that would leave ``out`` ("..", ".": ``Scene`` refuses them already) is a
+    ValueError."""
+    stem = re.sub(r"[^\w.\-]", "_", scene.name) or "scene"
+    if not stem.strip("."):
+        raise ValueError(f"scene name {scene.name!r} is not a plain file name: its results "
+                         f"would not go into {str(out)!r}")
+    return Path(out) / stem
 
 
 def prepare(path, out="results"):

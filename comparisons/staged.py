@@ -68,7 +68,7 @@ def stage_run(sc, member: dict, crack_materials=INTACT, stop_on_failure=False,
     ``model_options`` override the scene's solver (``build_model``)."""
     t0 = time.perf_counter()
     threads = min(int(member.get("threads", 1)), numba.config.NUMBA_NUM_THREADS)
-    model = build_model(sc, threads=threads, **{**member.get("solver", {}), **model_options})
+    model = build_model(sc, **{"threads": threads, **member.get("solver", {}), **model_options})
     critical_dt = float(model.critical_dt)     # of the built model, before any stage
     check_stages(sc.stages, set(model.blocks.groups), model.materials)
     n, finished, pose_log = len(sc.stages), [], []

@@ -40,16 +40,17 @@ def pick_variant(case: str, variants: dict, variant, optional=None) -> tuple:
 
 def _checked(case: str, settings: dict) -> dict:
     """``settings``, its ``solver`` (if any) checked against the Model options a scene takes
-    (``dem_core.workflow.scene.SOLVER_KEYS``) and its ``settle`` (if any) a bool: a bad one is named
-    before any run starts."""
+    (``dem_core.workflow.scene.SOLVER_KEYS``, each value of its option's kind) and its
+    ``settle`` (if any) a bool: a bad one is named before any run starts."""
+    from dem_core.geometry.regions import check_fields, check_keys
+    from dem_core.settings import SolverOptions
     from dem_core.workflow.scene import SOLVER_KEYS
     solver = settings.get("solver", {})
     if not isinstance(solver, dict):
         raise ValueError(f"{case}: solver must be a mapping of Model options, got {solver!r}")
-    unknown = set(solver) - SOLVER_KEYS
-    if unknown:
-        raise ValueError(f"{case}: unknown solver option(s) {sorted(unknown)}; allowed: "
-                         f"{sorted(SOLVER_KEYS)}")
+    # an unknown option with a "did you mean"; a value of the wrong kind ("edge_elements": 1)
+    check_keys(solver, SOLVER_KEYS, f"{case}: solver")
+    check_fields(solver, SolverOptions, f"{case}: solver", partial=True)
     if not isinstance(settings.get("settle", False), bool):
         raise ValueError(f"{case}: settle must be true or false, got {settings['settle']!r}")
     return settings

@@ -1,15 +1,93 @@
 """Regions: named polygons (concave allowed, with holes) that make up a scene.
 
 Coordinates are metres, (x, y) with y up. Orientation of the input rings does not matter.
+``check_keys`` and ``check_fields`` are the checks of a scene file's records at every level
+(a geometry's, a region's, a joint set's, a material's, a stage's...): unknown keys with a
+"did you mean", missing ones, and values of the wrong kind (a string where a bool is meant).
 """
 from __future__ import annotations
 
+import dataclasses
+import difflib
+import numbers
 from dataclasses import dataclass, field
 
 import numpy as np
 import shapely
 from shapely.geometry import Polygon
 from shapely.validation import explain_validity
+
+
+def check_keys(d, allowed, where: str, required=()) -> dict:
+    """``d`` itself, after checking that it is a mapping whose keys are all in ``allowed``
+    and include every ``required`` one: else a one-line ValueError naming ``where``, the bad
+    key, the closest allowed key ("did you mean", ``difflib.get_close_matches``) and the
+    allowed keys."""
+    if not isinstance(d, dict):
+        raise ValueError(f"{where} must be a mapping (a JSON object {{...}}), got "
+                         f"{type(d).__name__} {d!r}"[:300])
+    allowed = sorted(str(k) for k in allowed)
+    unknown = [k for k in d if k not in allowed]
+    if unknown:
+        parts = []
+        for k in unknown:
+            close = difflib.get_close_matches(str(k), allowed, n=1, cutoff=0.6)
+            parts.append(f"{k!r}" + (f" (did you mean {close[0]!r}?)" if close else ""))
+        raise ValueError(f"{where}: unknown key{'s' if len(unknown) > 1 else ''} "
+                         f"{', '.join(parts)}; allowed keys: {', '.join(allowed)}")
+    missing = [k for k in required if k not in d]
+    if missing:
+        raise ValueError(f"{where}: missing {', '.join(map(repr, missing))} (required "
+                         f"key{'s' if len(missing) > 1 else ''})")
+    return d
+
+
+def _type_name(t) -> str:
+    return t if isinstance(t, str) else getattr(t, "__name__", str(t))
+
+
+def _kind_ok(value, kind: str) -> bool:
+    if kind == "bool":
+        return isinstance(value, (bool, np.bool_))
+    if isinstance(value, (bool, np.bool_)):
+        return False                     # true/false where a number or a name is meant
+    if kind == "int":
+        return isinstance(value, numbers.Integral) or (
+            isinstance(value, float) and value.is_integer())
+    if kind == "float":
+        return isinstance(value, numbers.Real)
+    if kind == "str":
+        return isinstance(value, str)
+    return True
+
+
+_SAY = {"bool": "true or false", "int": "a whole number", "float": "a number",
+        "str": "a string"}
+
+
+def check_fields(d, cls, where: str, extra=(), skip=(), partial=False) -> dict:
+    """``check_keys`` of ``d`` against the fields of dataclass ``cls`` (and the ``extra``
+    keys), the fields without a default required, then each value against its field's
+    annotation: a bool field takes only true/false, an int field a whole number (not
+    true/false), a float field a number, a str field a string (None where the annotation
+    allows it). ``skip``: fields not checked here; ``partial``: no field is required (a
+    record of changes). ValueError naming ``where``, the key and the value."""
+    fields = dataclasses.fields(cls)
+    required = [] if partial else [f.name for f in fields if f.default is dataclasses.MISSING
+                                   and f.default_factory is dataclasses.MISSING]
+    check_keys(d, [f.name for f in fields] + list(extra), where, required)
+    for f in fields:
+        if f.name not in d or f.name in skip:
+            continue
+        kinds = [k.strip() for k in _type_name(f.type).split("|")]
+        value = d[f.name]
+        if value is None and "None" in kinds:
+            continue
+        scalar = [k for k in kinds if k != "None"]
+        if len(scalar) == 1 and scalar[0] in _SAY and not _kind_ok(value, scalar[0]):
+            raise ValueError(f"{where}: {f.name} must be {_SAY[scalar[0]]}"
+                             f"{' or null' if 'None' in kinds else ''}, got {value!r}")
+    return d
 
 
 def as_ring(points, what: str) -> np.ndarray:
@@ -81,7 +159,14 @@ class Region:
                 "groups": self.groups}
 
     @classmethod
-    def from_dict(cls, d: dict) -> "Region":
+    def from_dict(cls, d: dict, where: str = "region") -> "Region":
+        """A region from its file form (ValueError naming an unknown or missing key)."""
+        if isinstance(d, dict) and isinstance(d.get("name"), str):
+            where = f"{where} ({d['name']!r})"
+        check_fields(d, cls, where)
+        for key in ("holes", "groups"):
+            if not isinstance(d.get(key, []), list):
+                raise ValueError(f"{where}: {key} must be a list, got {d[key]!r}")
         return cls(d["name"], d["exterior"], d.get("holes", []), d.get("groups", []))
 
 

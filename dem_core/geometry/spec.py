@@ -11,7 +11,9 @@ import numpy as np
 import shapely
 
 from .joints import JointLine, JointSet
-from .regions import Region, polygon_from_rings
+from .regions import Region, check_fields, check_keys, polygon_from_rings
+
+GEOMETRY_KEYS = ("regions", "joint_sets", "joints", "voronoi", "groups")
 
 
 @dataclass
@@ -115,13 +117,16 @@ class Voronoi:
                 "min_area_fraction": self.min_area_fraction}
 
     @classmethod
-    def from_dict(cls, d: dict) -> "Voronoi":
-        d = dict(d)
+    def from_dict(cls, d: dict, where: str = "voronoi") -> "Voronoi":
+        """A Voronoi spec from its file form (ValueError naming ``where`` and an unknown or
+        missing key, or a value of the wrong kind)."""
+        d = dict(check_fields(d, cls, where, skip=("size_field",)))
         sf = d.pop("size_field", None)
         if sf is not None:
-            sf = dict(sf)
+            sf = dict(check_fields(sf, ZoneSizeField, f"{where}.size_field", extra=("kind",)))
             if sf.pop("kind", "ZoneSizeField") != "ZoneSizeField":
-                raise ValueError(f"unknown size field kind in {sf}")
+                raise ValueError(f"{where}.size_field: unknown kind in {sf}; the one kind is "
+                                 "'ZoneSizeField'")
             sf = ZoneSizeField(**sf)
         return cls(size_field=sf, **d)
 
@@ -197,19 +202,34 @@ class GeometrySpec:
                 "groups": {k: [list(map(float, p)) for p in v] for k, v in self.groups.items()}}
 
     @classmethod
-    def from_dict(cls, d: dict) -> "GeometrySpec":
-        def _js(x):
-            x = dict(x)
-            x.pop("kind", None)
-            return JointSet(**x)
+    def from_dict(cls, d: dict, where: str = "geometry") -> "GeometrySpec":
+        """A geometry from its file form. Every level is checked (``regions.check_fields``):
+        an unknown key (a typo: "joint_set", "dip") is refused naming where it is, with a
+        "did you mean" and the allowed keys, as is a missing key or a value of the wrong
+        kind."""
+        check_keys(d, GEOMETRY_KEYS, where, required=("regions",))
+        for key, kind in (("regions", list), ("joint_sets", list), ("joints", list),
+                          ("voronoi", dict), ("groups", dict)):
+            if key in d and not isinstance(d[key], kind):
+                raise ValueError(f"{where}.{key} must be a "
+                                 f"{'list' if kind is list else 'mapping'}, got {d[key]!r}"[:300])
 
-        def _jl(x):
-            x = dict(x)
-            x.pop("kind", None)
-            return JointLine(**x)
+        def _joint(x, i, jcls, key):
+            w = f"{where}.{key}[{i}]"
+            if isinstance(x, dict) and isinstance(x.get("name"), str):
+                w += f" ({x['name']!r})"
+            x = dict(check_fields(x, jcls, w, extra=("kind",)))
+            kind = x.pop("kind", jcls.__name__)
+            if kind != jcls.__name__:
+                raise ValueError(f"{w}: kind {kind!r} in {key}; it takes {jcls.__name__!r}")
+            return jcls(**x)
 
-        return cls(regions=[Region.from_dict(r) for r in d["regions"]],
-                   joint_sets=[_js(j) for j in d.get("joint_sets", [])],
-                   joints=[_jl(j) for j in d.get("joints", [])],
-                   voronoi={k: Voronoi.from_dict(v) for k, v in d.get("voronoi", {}).items()},
+        return cls(regions=[Region.from_dict(r, f"{where}.regions[{i}]")
+                            for i, r in enumerate(d["regions"])],
+                   joint_sets=[_joint(j, i, JointSet, "joint_sets")
+                               for i, j in enumerate(d.get("joint_sets", []))],
+                   joints=[_joint(j, i, JointLine, "joints")
+                           for i, j in enumerate(d.get("joints", []))],
+                   voronoi={k: Voronoi.from_dict(v, f"{where}.voronoi[{k!r}]")
+                            for k, v in d.get("voronoi", {}).items()},
                    groups=dict(d.get("groups", {})))

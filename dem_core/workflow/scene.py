@@ -20,8 +20,10 @@ A boundary fixes velocity components of a group at zero: ``{"group": "sides", "x
 from __future__ import annotations
 
 import dataclasses
+import difflib
 import json
 import math
+import numbers
 import re
 from dataclasses import dataclass, field
 
@@ -29,10 +31,11 @@ import numpy as np
 import shapely
 
 from ..geometry import GeometrySpec
-from ..settings import SCENE_SOLVER_KEYS
+from ..geometry.regions import check_fields, check_keys
+from ..settings import SCENE_SOLVER_KEYS, SolverOptions
 from ..contact.materials import Material, material_for, material_table
 from ..deformable.zone_plasticity import new_keys
-from .stages import check_stages, stage_from_dict, stage_to_dict
+from .stages import STAGE_KINDS, check_stages, stage_from_dict, stage_to_dict
 
 __all__ = ["Scene", "Boundary", "build_model", "conventional", "resolve_groups", "group_sides",
            "GROUP_SELECTORS"]
@@ -41,7 +44,10 @@ GROUP_SELECTORS = ("touching", "region", "inside", "union", "minus")
 SIDES = ("bottom", "top", "left", "right")
 _SCENE_KEYS = {"name", "description", "geometry", "materials", "density", "block_E",
                "block_nu", "groups", "boundaries", "points", "stages", "solver"}
-_MATERIAL_KEYS = {f.name for f in dataclasses.fields(Material)}
+# the kind of each top-level value of a scene file (``Scene.from_dict``)
+_SCENE_KINDS = {"name": str, "description": str, "materials": dict, "groups": dict,
+                "boundaries": list, "points": dict, "stages": list, "solver": dict,
+                "geometry": dict}
 # Model options a scene may set: the SolverOptions fields but the block moduli (the scene's
 # own top-level keys)
 SOLVER_KEYS = set(SCENE_SOLVER_KEYS)
@@ -82,9 +88,9 @@ class Scene:
     description: str = ""
 
     def __post_init__(self):
-        self.boundaries = [b if isinstance(b, Boundary) else Boundary(**b)
-                           for b in self.boundaries]
-        self.points = {k: (float(v[0]), float(v[1])) for k, v in self.points.items()}
+        self.boundaries = [b if isinstance(b, Boundary) else _boundary(b, i)
+                           for i, b in enumerate(self.boundaries)]
+        self.points = {k: _point(k, v) for k, v in self.points.items()}
         zs = self.solver.get("zone_strength")
         if isinstance(zs, dict):       # old key names (``zone_plasticity.OLD_KEYS``) renamed
             self.solver = dict(self.solver, zone_strength={
@@ -95,15 +101,14 @@ class Scene:
     # ------------------------------------------------------------------ checks
     def validate(self) -> None:
         """Raise ValueError naming the bad item; nothing is computed before this passes."""
+        check_name(self.name)
         _positive("density (kg/m^3)", self.density)
         if self.block_E is not None:
             _positive("block_E (Pa)", self.block_E)
-        if not (-1.0 < float(self.block_nu) < 0.5):
-            raise ValueError(f"block_nu must be in (-1, 0.5), got {self.block_nu!r}")
-        unknown = set(self.solver) - SOLVER_KEYS
-        if unknown:
-            raise ValueError(f"unknown solver option(s) {sorted(unknown)}; allowed "
-                             f"{sorted(SOLVER_KEYS)}")
+        if not (_number(self.block_nu) and -1.0 < float(self.block_nu) < 0.5):
+            raise ValueError(f"block_nu must be a number in (-1, 0.5), got {self.block_nu!r}")
+        check_keys(self.solver, SOLVER_KEYS, "solver")
+        check_fields(self.solver, SolverOptions, "solver", partial=True)
         for name in contact_material_names(self.geometry):
             material_table([name], self.materials)        # names the missing material
         known = self.group_names()
@@ -111,13 +116,20 @@ class Scene:
         for gname, sel in self.groups.items():
             _check_selector(gname, sel, earlier)
             earlier.add(gname)
-        for b in self.boundaries:
+        for i, b in enumerate(self.boundaries):
+            _check_boundary(b, i)
             if b.group not in known:
                 raise ValueError(f"boundary on unknown group {b.group!r}; groups are "
                                  f"{sorted(known)}")
         for pname, xy in self.points.items():
             if not all(math.isfinite(v) for v in xy):
                 raise ValueError(f"monitoring point {pname!r} is not finite: {xy!r}")
+        _points_in_regions(self)
+        for i, st in enumerate(self.stages):      # a stage's scalars of the right kind
+            kind = _KIND_OF.get(type(st))
+            if kind is not None:
+                check_fields({f.name: getattr(st, f.name) for f in dataclasses.fields(st)},
+                             type(st), f"stage {i} ({kind})")
         check_stages(self.stages, known, self.materials)
 
     def group_names(self) -> set:
@@ -142,24 +154,28 @@ class Scene:
 
     @classmethod
     def from_dict(cls, d: dict) -> "Scene":
-        _no_unknown_keys("scene", d, _SCENE_KEYS)
-        for key in ("geometry", "materials", "density"):
-            if key not in d:
-                raise ValueError(f"scene: missing {key!r}")
+        """A scene from its file form. Every level is checked before anything is built: an
+        unknown key (with a "did you mean" and the allowed keys), a missing one, a value of
+        the wrong kind (``regions.check_fields``), each naming where it is."""
+        check_keys(d, _SCENE_KEYS, "scene", required=("geometry", "materials", "density"))
+        for key, kind in _SCENE_KINDS.items():
+            if key in d and not isinstance(d[key], kind):
+                raise ValueError(f"scene: {key} must be a "
+                                 f"{_KIND_WORDS[kind]}, got {d[key]!r}"[:300])
         mats = {}
         for k, m in d["materials"].items():
-            _no_unknown_keys(f"material {k!r}", m, _MATERIAL_KEYS)
-            mats[k] = Material(**m).validated(k)
+            check_fields(m, Material, f"materials[{k!r}]")
+            mats[k] = Material(**m).validated(f"materials[{k!r}]")
         try:
-            geometry = GeometrySpec.from_dict(d["geometry"])
-        except TypeError as e:                   # an unknown field of a joint set, Voronoi...
+            geometry = GeometrySpec.from_dict(d["geometry"], "geometry")
+        except TypeError as e:                   # anything the checks above did not name
             raise ValueError(f"scene geometry: {e}") from None
         return cls(geometry=geometry, materials=mats, density=d["density"],
                    block_E=d.get("block_E"), block_nu=d.get("block_nu", 0.25),
                    groups=d.get("groups", {}),
-                   boundaries=[_boundary(b) for b in d.get("boundaries", [])],
+                   boundaries=[_boundary(b, i) for i, b in enumerate(d.get("boundaries", []))],
                    points=d.get("points", {}),
-                   stages=[stage_from_dict(s, i) for i, s in enumerate(d.get("stages", []))],
+                   stages=[_stage(s, i) for i, s in enumerate(d.get("stages", []))],
                    solver=d.get("solver", {}), name=d.get("name", "scene"),
                    description=d.get("description", ""))
 
@@ -174,9 +190,10 @@ class Scene:
 
     @classmethod
     def load(cls, path) -> "Scene":
-        """Read and check a scene file (ValueError naming the bad item)."""
+        """Read and check a scene file (ValueError naming the bad item; a key given twice in
+        one object is refused, naming it and where it is)."""
         with open(path) as fh:
-            return cls.from_dict(json.load(fh))
+            return cls.from_dict(load_json(fh))
 
 
 # ---------------------------------------------------------------------- building
@@ -202,9 +219,31 @@ def build_model(scene: Scene, blocks=None, **options):
             extra = np.setdiff1d(near[model.deformable_blocks[near]], model.group(b.group))
             if extra.size:
                 model.fix(extra, x=b.x, y=b.y, rotation=b.rotation, at=sides)
+    check_points_in_blocks(scene.points, blocks, model.props.active)
     for name, xy in scene.points.items():
         model.add_history_point(name, xy)
     return model
+
+
+def check_points_in_blocks(points, blocks, active=None) -> None:
+    """ValueError naming the first monitoring point (name -> (x, y) m) that no (active) block
+    of ``blocks`` contains: ``Model.add_history_point`` would attach it to the nearest block.
+    A point on a block's edge (within 1e-9 of the model's size) is inside."""
+    if not points:
+        return
+    v = np.asarray(blocks.vertices, dtype=np.float64)
+    off = np.asarray(blocks.vertex_offsets)
+    lo, hi = np.minimum.reduceat(v, off[:-1]), np.maximum.reduceat(v, off[:-1])
+    tol = 1e-9 * max(1.0, float(np.hypot(*(v.max(0) - v.min(0)))))
+    act = np.ones(len(lo), bool) if active is None else np.asarray(active)[:len(lo)] > 0
+    for name, xy in points.items():
+        p = np.asarray(xy, dtype=np.float64)
+        near = np.flatnonzero(act & np.all(lo - tol <= p, axis=1) & np.all(p <= hi + tol, axis=1))
+        if not any(shapely.distance(shapely.Polygon(v[off[b]:off[b + 1]]), shapely.Point(p))
+                   <= tol for b in near):
+            raise ValueError(f"monitoring point {name!r} at ({p[0]:g}, {p[1]:g}) m is in no "
+                             f"block of the model (blocks span x {v[:, 0].min():g}.."
+                             f"{v[:, 0].max():g}, y {v[:, 1].min():g}..{v[:, 1].max():g} m)")
 
 
 def conventional(scene: Scene, zone_size: float, plastic: bool = False) -> Scene:
@@ -292,34 +331,143 @@ def contact_material_names(geometry: GeometrySpec) -> list:
 
 # ---------------------------------------------------------------------- helpers
 def _positive(what, v):
-    if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+    if not (_number(v) and math.isfinite(v) and v > 0):
         raise ValueError(f"{what} must be finite and > 0, got {v!r}")
 
 
-def _no_unknown_keys(what, d, allowed):
+_KIND_WORDS = {str: "string", dict: "mapping (a JSON object {...})",
+               list: "list (a JSON array [...])"}
+_KIND_OF = {cls: kind for kind, cls in STAGE_KINDS.items()}
+_UNSAFE_NAME = re.compile(r"[/\\\x00-\x1f]")
+
+
+def _number(v) -> bool:
+    return isinstance(v, numbers.Real) and not isinstance(v, (bool, np.bool_))
+
+
+def check_name(name) -> None:
+    """A scene's name is a plain file-name stem: its results go to ``<out>/<name>``, so "..",
+    "." or a name with a path separator would write outside that folder (ValueError)."""
+    if not (isinstance(name, str) and name.strip() and not _UNSAFE_NAME.search(name)
+            and name.strip(". ")):
+        raise ValueError(f"scene name must be a plain file name (no '/', '\\', control "
+                         f"characters, not only dots), got {name!r}")
+
+
+def load_json(fh):
+    """``json.load`` of a scene file refusing a key given twice in one object (JSON keeps the
+    last in silence): ValueError naming the key and where it is."""
+    twice, keep = {}, []
+
+    def pairs(items):
+        out = {}
+        for k, v in items:
+            if k in out and id(out) not in twice:
+                twice[id(out)] = k
+            out[k] = v
+        keep.append(out)                 # the ids stay those objects' until the walk below
+        return out
+
+    data = json.load(fh, object_pairs_hook=pairs)
+    if twice:
+        where = _path_of(data, twice, "")
+        at, key = where if where is not None else ("", "?")
+        raise ValueError(f"duplicate key {key!r} " + (f"in {at}" if at else "at the top level")
+                         + " (JSON would keep only the last; give each key once)")
+    return data
+
+
+def _path_of(node, twice, path):
+    """(path, key) of the first object of ``node`` in ``twice`` (id -> duplicate key)."""
+    if isinstance(node, dict):
+        if id(node) in twice:
+            return path, twice[id(node)]
+        for k, v in node.items():
+            sub = f"{path}.{k}" if re.fullmatch(r"[A-Za-z_]\w*", str(k)) else f"{path}[{k!r}]"
+            found = _path_of(v, twice, sub.lstrip("."))
+            if found is not None:
+                return found
+    elif isinstance(node, list):
+        for i, v in enumerate(node):
+            found = _path_of(v, twice, f"{path}[{i}]")
+            if found is not None:
+                return found
+    return None
+
+
+def _point(name, xy) -> tuple:
+    """A monitoring point (x, y) m, or ValueError naming it."""
+    if not (isinstance(xy, (list, tuple, np.ndarray)) and len(xy) == 2
+            and all(_number(v) for v in xy)):
+        raise ValueError(f"points[{name!r}] must be [x, y] in m (two numbers), got {xy!r}")
+    return float(xy[0]), float(xy[1])
+
+
+def _points_in_regions(scene) -> None:
+    """A monitoring point outside every region (or in a hole) is refused before any block is
+    built: it would be attached to the nearest block (``check_points_in_blocks`` checks the
+    blocks themselves in ``build_model``)."""
+    if not scene.points:
+        return
+    rock = shapely.union_all([r.polygon() for r in scene.geometry.regions])
+    x0, y0, x1, y1 = rock.bounds
+    tol = 1e-9 * max(1.0, math.hypot(x1 - x0, y1 - y0))
+    for name, (x, y) in scene.points.items():
+        if shapely.distance(rock, shapely.Point(x, y)) > tol:
+            raise ValueError(f"monitoring point {name!r} at ({x:g}, {y:g}) m is in no region "
+                             f"of the model (its regions span x {x0:g}..{x1:g}, "
+                             f"y {y0:g}..{y1:g} m)")
+
+
+def _boundary(d, i=0) -> Boundary:
+    """A boundary from its file form (ValueError naming an unknown key, or a value that is
+    not true/false where one is meant)."""
+    where = f"boundaries[{i}]"
+    if isinstance(d, dict) and isinstance(d.get("group"), str):
+        where += f" (group {d['group']!r})"
+    return Boundary(**check_fields(d, Boundary, where))
+
+
+def _check_boundary(b, i) -> None:
+    check_fields(dataclasses.asdict(b), Boundary, f"boundaries[{i}]")
+
+
+def _stage(d, i):
+    """A stage from its file form: an unknown kind or key with a "did you mean", a value of
+    the wrong kind (``"settle": "no"``, ``"max_steps": true``), each naming the stage."""
     if not isinstance(d, dict):
-        raise ValueError(f"{what} must be a mapping, got {type(d).__name__}")
-    unknown = set(d) - set(allowed)
-    if unknown:
-        raise ValueError(f"{what}: unknown key(s) {sorted(unknown)}; allowed {sorted(allowed)}")
-
-
-def _boundary(d) -> Boundary:
-    _no_unknown_keys("boundary", d, {f.name for f in dataclasses.fields(Boundary)})
-    return Boundary(**d)
+        raise ValueError(f"stage {i} must be a mapping with a 'kind', got {d!r}"[:300])
+    kind = d.get("kind")
+    if kind not in STAGE_KINDS:
+        close = difflib.get_close_matches(str(kind), list(STAGE_KINDS), n=1)
+        raise ValueError(f"stage {i}: unknown kind {kind!r}"
+                         + (f" (did you mean {close[0]!r}?)" if close else "")
+                         + f"; kinds are {', '.join(sorted(STAGE_KINDS))}")
+    cls = STAGE_KINDS[kind]
+    check_fields(d, cls, f"stage {i} ({kind})", extra=("kind",))
+    if kind == "change_material":
+        check_fields(d.get("changes", {}), Material, f"stage {i} (change_material) changes",
+                     partial=True)
+    return stage_from_dict(d, i)
 
 
 def _check_selector(name, sel, known):
-    if not (isinstance(sel, dict) and len(sel) == 1 and next(iter(sel)) in GROUP_SELECTORS):
+    if not (isinstance(sel, dict) and len(sel) == 1):
         raise ValueError(f"group {name!r}: a selector is one of {list(GROUP_SELECTORS)} with its "
-                         f"argument, got {sel!r}")
+                         f"argument, e.g. {{\"touching\": \"bottom\"}}, got {sel!r}")
+    check_keys(sel, GROUP_SELECTORS, f"groups[{name!r}]")
     (kind, arg), = sel.items()
     if kind == "touching" and arg not in SIDES:
         raise ValueError(f"group {name!r}: touching must name a side {list(SIDES)}, got {arg!r}")
+    if kind in ("union", "minus") and not isinstance(arg, list):
+        raise ValueError(f"group {name!r}: {kind} takes a list of group names, got {arg!r}")
     refs = [arg] if kind == "region" else (list(arg) if kind in ("union", "minus") else [])
     if kind == "minus" and len(refs) != 2:
         raise ValueError(f"group {name!r}: minus takes two group names, got {arg!r}")
     for r in refs:
+        if not isinstance(r, str):
+            raise ValueError(f"group {name!r}: {kind} takes group names, got {r!r} (a selector "
+                             "inside a selector: define it as a group of its own and name it)")
         if r not in known or r == name:
             raise ValueError(f"group {name!r} refers to unknown group {r!r}")
     if kind == "inside":
