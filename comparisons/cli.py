@@ -1,17 +1,27 @@
 """Command line: ``python -m comparisons list | run CASE [--quick|--full] [--set KEY=VALUE ...]
-[--out DIR] [--resume] [--vtk] | run-scene FILE [--out DIR] [--vtk] | demo``.
+[--out DIR] [--resume] [--restart] [--vtk] | run-scene FILE [--set KEY=VALUE ...] [--out DIR]
+[--resume] [--restart] [--vtk] | demo``.
 
 ``--set`` changes one setting of the chosen variant (a key of the case's ``VARIANTS``; VALUE
 is JSON, else a string), e.g. ``run adhikary --full --set 'solver={"edge_elements": true}'``
-or ``run lajtai --set zone_size=0.0035``; the run is then the "custom" variant.
+or ``run lajtai --set zone_size=0.0035``; the run is then the "custom" variant. For
+``run-scene``, ``--set`` changes a top-level key of the scene file (``solver`` is laid over the
+file's; ``comparisons.run_scene.apply_settings``).
 
-Bad input (an unknown case, a scene file that does not load, an --out that cannot be written)
-ends in one line on stderr and exit status 2, before any compute."""
+``--resume`` loads what an earlier run of the same case and settings (or the same scene and
+``--set``) kept in its folder's ``members/``; a kept result or checkpoint of another case
+setting or scene is refused (``comparisons.store.check_kept``). ``--restart``, like a run
+without ``--resume``, deletes the kept results and starts over.
+
+Bad input (an unknown case, a scene file that does not load, an --out that cannot be written,
+a kept result to resume from that belongs to another scene or settings or does not read) ends
+in one line on stderr and exit status 2, before any compute."""
 from __future__ import annotations
 
 import argparse
 import sys
 import time
+from contextlib import ExitStack
 from pathlib import Path
 
 from comparisons import registry, store
@@ -38,6 +48,7 @@ def main(argv=None) -> int:
     run.add_argument("--resume", action="store_true",
                      help="load the sweep members an earlier, interrupted run of this case "
                           "kept in OUT/CASE/members/ instead of running them again")
+    run.add_argument("--restart", action="store_true", help=RESTART_HELP)
     run.add_argument("--vtk", action="store_true",
                      help="write each DEM model's final state for ParaView to OUT/CASE/vtk/")
     scene = sub.add_parser("run-scene", help="run a scene file (DEM): its stages, a summary, "
@@ -45,6 +56,13 @@ def main(argv=None) -> int:
     scene.add_argument("file", help="a scene file (JSON, docs/scenes.md)")
     scene.add_argument("--out", default="results",
                        help="results root (default: results/); writes OUT/<scene name>/")
+    scene.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                       help="change a top-level key of the scene (VALUE as JSON; solver is laid "
+                            "over the file's, e.g. 'solver={\"damping\": 0.5}'); repeatable")
+    scene.add_argument("--resume", action="store_true",
+                       help="go on after the stages an earlier, interrupted run of this scene "
+                            "kept in OUT/<scene name>/members/")
+    scene.add_argument("--restart", action="store_true", help=RESTART_HELP)
     scene.add_argument("--vtk", action="store_true",
                        help="write the final state for ParaView to OUT/<scene name>/")
     scene.add_argument("--quiet", action="store_true")
@@ -58,11 +76,17 @@ def main(argv=None) -> int:
             print(f"{name:12s} {module.DESCRIPTION}")
         return 0
     if args.command == "run-scene":
-        return run_scene_file(args.file, Path(args.out), args.vtk, args.quiet)
+        return run_scene_file(args.file, Path(args.out), args.vtk, args.quiet,
+                              settings=args.set, resume=args.resume, restart=args.restart)
     if args.command == "demo":
         return run_case(registry.DEMO_CASE, "quick", Path(args.out), seed=1, quiet=False)
     return run_case(args.case, args.variant or "quick", Path(args.out), args.seed, args.quiet,
-                    resume=args.resume, vtk=args.vtk, settings=args.set)
+                    resume=args.resume, vtk=args.vtk, settings=args.set,
+                    restart=args.restart)
+
+
+RESTART_HELP = ("delete the results an earlier run kept (e.g. of a changed scene or other "
+                "settings, which --resume refuses) and start over")
 
 
 def fail(message: str) -> int:
@@ -72,22 +96,29 @@ def fail(message: str) -> int:
 
 
 def run_case(name: str, variant: str, out: Path, seed: int, quiet: bool, resume: bool = False,
-             vtk: bool = False, settings=()) -> int:
+             vtk: bool = False, settings=(), restart: bool = False) -> int:
     """Run case ``name`` and write its results to ``out/name``; its sweep members are kept in
-    ``out/name/members`` (``resume``: load the kept ones), VTK files go to ``out/name/vtk``
-    (``vtk``; ``comparisons.store``). ``settings``: "KEY=VALUE" changes of the variant
-    (``custom_variant``). An unknown case, setting or an unwritable ``out`` is refused before
-    any compute (``fail``)."""
-    try:
-        module = registry.case_module(name)
-        store.check_folder(Path(out) / name)
-        chosen = custom_variant(module, variant, settings) if settings else variant
-    except ValueError as e:
-        return fail(str(e))
-    progress = Progress(name, quiet=quiet)
-    t0 = time.perf_counter()
-    with store.case_output(Path(out) / name, resume=resume, vtk=vtk):
-        result = module.run(variant=chosen, seed=seed, progress=progress)
+    ``out/name/members`` (``resume``: load the kept ones; ``restart``: delete them first),
+    VTK files go to ``out/name/vtk`` (``vtk``; ``comparisons.store``). ``settings``:
+    "KEY=VALUE" changes of the variant (``custom_variant``). An unknown case, setting, an
+    unwritable ``out`` or, resuming, a kept result of other settings (``case_source``) is
+    refused before any compute (``fail``)."""
+    with ExitStack() as stack:
+        try:
+            module = registry.case_module(name)
+            store.check_folder(Path(out) / name)
+            chosen = custom_variant(module, variant, settings) if settings else variant
+            stack.enter_context(store.case_output(
+                Path(out) / name, resume=resume, vtk=vtk, restart=restart,
+                source=case_source(module, name, variant, chosen, seed)))
+        except ValueError as e:
+            return fail(str(e))
+        progress = Progress(name, quiet=quiet)
+        t0 = time.perf_counter()
+        try:
+            result = module.run(variant=chosen, seed=seed, progress=progress)
+        except store.StaleResult as e:
+            return fail(str(e))
     folder = write_results(result, out)
     print(f"{name} ({variant}) finished in {time.perf_counter() - t0:.1f} s")
     for metric, e in result.errors.items():
@@ -96,6 +127,14 @@ def run_case(name: str, variant: str, out: Path, seed: int, quiet: bool, resume:
             print(f"  {metric}: ours {e['ours']:.4g}, reference {e['reference']}{rel}")
     print(f"results written to {folder.resolve()}/ (report: {(folder / 'report.md').resolve()})")
     return 0
+
+
+def case_source(module, name: str, variant: str, chosen, seed: int) -> str:
+    """What a case run comes from (``store.source_hash``): the case, the variant's settings
+    (after ``--set``) and the seed."""
+    settings = chosen if isinstance(chosen, dict) else getattr(module, "VARIANTS", {}).get(
+        variant, variant)
+    return store.source_hash({"case": name, "settings": settings, "seed": seed})
 
 
 def custom_variant(module, variant: str, settings) -> dict:
@@ -127,20 +166,28 @@ def custom_variant(module, variant: str, settings) -> dict:
     return out
 
 
-def run_scene_file(path, out: Path, vtk: bool = False, quiet: bool = False) -> int:
-    """``run-scene``: run a scene file's stages on the DEM model and write its results to
-    ``out/<scene name>`` (``comparisons.run_scene``). A file that does not load as a scene or
-    an unwritable ``out`` is refused before any compute; a stage that raises ends with status
-    1 after the outputs of the stages before it are written."""
-    from comparisons.run_scene import prepare, run_prepared
+def run_scene_file(path, out: Path, vtk: bool = False, quiet: bool = False, settings=(),
+                   resume: bool = False, restart: bool = False) -> int:
+    """``run-scene``: run a scene file's stages on the DEM model (with the ``--set`` items
+    ``settings``) and write its results to ``out/<scene name>`` (``comparisons.run_scene``);
+    ``resume``: go on after the stages an earlier run kept; ``restart``: delete them first. A
+    file that does not load as a scene, an unwritable ``out`` or, resuming, kept stages of
+    another scene or settings are refused before any compute; a stage that raises ends with
+    status 1 after the outputs of the stages before it are written."""
+    from comparisons.run_scene import load_stages, prepare, run_prepared, scene_source
 
-    try:
-        scene, folder = prepare(path, out)
-    except ValueError as e:
-        return fail(str(e))
-    progress = Progress(scene.name, quiet=quiet)
-    t0 = time.perf_counter()
-    records, error = run_prepared(scene, folder, path, vtk=vtk, progress=progress)
+    with ExitStack() as stack:
+        try:
+            scene, folder = prepare(path, out, settings)
+            keep = stack.enter_context(store.case_output(
+                folder, resume=resume, restart=restart, source=scene_source(scene, settings)))
+            kept = load_stages(keep) if keep.resume else None
+        except ValueError as e:
+            return fail(str(e))
+        progress = Progress(scene.name, quiet=quiet)
+        t0 = time.perf_counter()
+        records, error = run_prepared(scene, folder, path, vtk=vtk, progress=progress,
+                                      kept=kept)
     n = len(records)
     print(f"{Path(path).name}: {n} stage{'s' if n != 1 else ''} run, "
           f"{time.perf_counter() - t0:.1f} s with the outputs")

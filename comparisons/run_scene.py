@@ -1,5 +1,6 @@
 """Run a scene file from the command line: ``python -m comparisons run-scene FILE [--out DIR]
-[--vtk]``, so a slope can be modelled without writing Python.
+[--vtk] [--set KEY=VALUE ...] [--resume] [--restart]``, so a slope can be modelled without
+writing Python.
 
 The scene (``dem_core.workflow.scene.Scene.load``: checked before any compute) is built as a DEM model
 (``build_model``) and its stages run (``dem_core.workflow.stages.run_stages``); ``<out>/<scene name>/``
@@ -22,6 +23,19 @@ then holds, like a case's folder:
 - ``report.md``: the results, the stage table (``stage_table``, mm), the picture;
 - ``<scene name>.vtu`` with ``--vtk``: the final state for ParaView (``Model.write_vtk``).
 
+``--set KEY=VALUE`` (``apply_settings``) changes a top-level key of the scene file (VALUE as
+JSON, else a string): ``solver`` is laid over the file's solver options (``--set
+'solver={"damping": 0.5}'``), any other key (``density``, ``block_nu``, ``stages``, ...) is
+replaced; the result is checked like the file.
+
+Resuming (``--resume``): the run keeps, in ``<out>/<scene name>/members/``, the model after
+each finished stage and the stages' records (``checkpoint-stages.npz`` and ``.json``, the
+latter with the run's ``source``: a hash of the scene's canonical JSON and the ``--set``
+items, ``scene_source``). A resumed run goes on after the last kept stage (a finished run's
+outputs are written again, no stage run); a checkpoint of another source (the scene file or
+``--set`` changed) is refused before any compute (``comparisons.store.check_kept``);
+``--restart``, like a run without ``--resume``, deletes the kept results first.
+
 DEM only for now: a scene file holds contact materials (joints, flaws), not the rock-mass
 material and mesh size the continuum needs (``continuum_ref.from_scene`` builds the continuum
 side from Python, e.g. examples/field_slope.py).
@@ -30,7 +44,9 @@ from __future__ import annotations
 
 import csv
 import dataclasses
+import importlib
 import json
+import os
 import re
 import time
 from pathlib import Path
@@ -38,9 +54,13 @@ from pathlib import Path
 import numpy as np
 
 from comparisons.results import _jsonable, software_versions
+from comparisons import store
 from comparisons.store import check_folder
 
-__all__ = ["prepare", "run_scene", "run_prepared", "scene_folder", "RESULT_KEYS"]
+__all__ = ["prepare", "run_scene", "run_prepared", "scene_folder", "RESULT_KEYS",
+           "apply_settings", "scene_source", "load_stages", "STAGES_CHECKPOINT"]
+
+STAGES_CHECKPOINT = "checkpoint-stages"     # <members>/<this>.npz and .json
 
 # the numbers a stage gives that a reader looks for first (copied to summary["results"])
 RESULT_KEYS = ("failure_g", "last_stable_g", "factor_of_safety", "first_failed",
@@ -60,15 +80,46 @@ def scene_folder(scene, out) -> Path:
     return Path(out) / stem
 
 
-def prepare(path, out="results"):
-    """The checks before any compute: (scene, folder) of the scene file ``path`` and its
-    results folder ``scene_folder(scene, out)``, created and writable. ValueError naming the
-    file and what is wrong with it (missing, not JSON, not a valid scene: the item), or the
-    folder that cannot be written."""
-    from dem_core.workflow.scene import Scene
+def apply_settings(d: dict, settings) -> dict:
+    """The scene file's dict ``d`` with each "KEY=VALUE" of ``settings`` applied (VALUE parsed
+    as JSON, else taken as a string): ``solver`` laid over the file's solver options, any
+    other top-level key replaced (``Scene.from_dict`` checks the result). ValueError naming an
+    item that is not KEY=VALUE or a solver that is not an object."""
+    d = dict(d)
+    for item in settings:
+        key, sep, text = item.partition("=")
+        if not sep or not key:
+            raise ValueError(f"--set takes KEY=VALUE, got {item!r}")
+        try:
+            value = json.loads(text)
+        except json.JSONDecodeError:
+            value = text
+        if key == "solver":
+            if not isinstance(value, dict):
+                raise ValueError(f"--set solver: expected a JSON object like "
+                                 f"{{\"damping\": 0.5}}, got {value!r}")
+            value = {**(d.get("solver") or {}), **value}
+        d[key] = value
+    return d
+
+
+def scene_source(scene, settings=()) -> str:
+    """What a scene run comes from (``store.source_hash``): the scene's canonical JSON
+    (``Scene.to_dict``, keys sorted) and the ``--set`` items."""
+    return store.source_hash({"scene": scene.to_dict(), "set": list(settings)})
+
+
+def prepare(path, out="results", settings=()):
+    """The checks before any compute: (scene, folder) of the scene file ``path`` (with the
+    ``--set`` items ``settings``, ``apply_settings``) and its results folder
+    ``scene_folder(scene, out)``, created and writable. ValueError naming the file and what
+    is wrong with it (missing, not JSON, not a valid scene: the item), or the folder that
+    cannot be written."""
+    from dem_core.workflow.scene import Scene, load_json
 
     try:
-        scene = Scene.load(path)
+        with open(path) as fh:
+            scene = Scene.from_dict(apply_settings(load_json(fh), settings))
     except OSError as e:
         raise ValueError(f"scene file {str(path)!r}: {e.strerror or e}") from None
     except json.JSONDecodeError as e:
@@ -78,39 +129,124 @@ def prepare(path, out="results"):
     return scene, check_folder(scene_folder(scene, out))
 
 
-def run_scene(path, out="results", vtk: bool = False, progress=None):
-    """Load the scene file ``path`` (``prepare``), run its stages on the DEM model and write
-    the outputs (module docstring) to ``scene_folder``. Returns (folder, records, error): the
+def run_scene(path, out="results", vtk: bool = False, progress=None, settings=(),
+              resume: bool = False, restart: bool = False):
+    """Load the scene file ``path`` (``prepare``, with the ``--set`` items ``settings``), run
+    its stages on the DEM model and write the outputs (module docstring) to ``scene_folder``.
+    ``resume``: go on from the stages kept in ``<folder>/members`` (refused, before any
+    compute, when they came from another scene or settings); without it, or with
+    ``restart``, they are deleted first. Returns (folder, records, error): the
     ``StageRecord``s of the stages that ran and None, or the exception a stage raised (the
     outputs of the stages before it are still written)."""
-    scene, folder = prepare(path, out)
-    return (folder,) + run_prepared(scene, folder, path, vtk, progress)
+    scene, folder = prepare(path, out, settings)
+    with store.case_output(folder, resume=resume, source=scene_source(scene, settings),
+                           restart=restart) as keep:
+        kept = load_stages(keep) if keep.resume else None
+        return (folder,) + run_prepared(scene, folder, path, vtk, progress, kept=kept)
 
 
-def run_prepared(scene, folder, path, vtk=False, progress=None):
-    """``run_scene`` after ``prepare``: (records, error)."""
+def _checkpoint_stem(keep) -> Path:
+    return keep.members / STAGES_CHECKPOINT
+
+
+def load_stages(keep):
+    """(model, records) kept by the scene run in the folder of ``keep`` (a
+    ``store.CaseOutput``) after its last finished stage, or None when there are none (or the
+    two files are not of the same stage: the run was killed between them). ValueError naming
+    the file that does not read; ``store.StaleResult`` when they came from another source."""
+    from dem_core.model import Model
+
+    stem = _checkpoint_stem(keep)
+    npz, js = stem.with_name(stem.name + ".npz"), stem.with_name(stem.name + ".json")
+    if not js.exists():
+        return None
+    try:
+        saved = json.loads(js.read_text(), object_hook=_decode_record)
+        source, step, records = saved["source"], saved["step"], saved["records"]
+    except (ValueError, KeyError, TypeError, ImportError, AttributeError) as e:
+        raise ValueError(f"checkpoint {str(js)!r} does not read ({type(e).__name__}: "
+                         f"{e}); run again with --restart to start over") from None
+    if not isinstance(source, dict) or source.get("run") != keep.source:
+        raise store.StaleResult(store.stale_message(js))
+    if not npz.exists():
+        return None
+    try:
+        model = Model.load(npz)
+    except Exception as e:
+        raise ValueError(f"checkpoint {str(npz)!r} does not read ({type(e).__name__}: "
+                         f"{e}); run again with --restart to start over") from None
+    if int(model.step) != int(step):
+        return None
+    for r in records:
+        r.points = {k: tuple(v) for k, v in r.points.items()}
+    return model, records
+
+
+def _save_stages(keep, model, records) -> None:
+    """Keep the model after the stages ``records`` and their records (each file written whole
+    before it replaces the last)."""
+    stem = _checkpoint_stem(keep)
+    part = stem.with_name(stem.name + ".part.npz")
+    model.save(part)
+    os.replace(part, stem.with_name(stem.name + ".npz"))
+    text = json.dumps({"source": {"run": keep.source}, "step": int(model.step),
+                       "records": records}, default=_encode_record)
+    part = stem.with_name(stem.name + ".part.json")
+    part.write_text(text)
+    os.replace(part, stem.with_name(stem.name + ".json"))
+
+
+def _encode_record(value):
+    """A dataclass (a StageRecord, a search's record) by its class and fields, else
+    ``store``'s encoding (arrays, numpy scalars)."""
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return {"__record__": f"{type(value).__module__}:{type(value).__qualname__}",
+                "fields": {f.name: getattr(value, f.name) for f in dataclasses.fields(value)}}
+    return store._encode(value)
+
+
+def _decode_record(obj):
+    if "__record__" in obj:
+        module, _, name = obj["__record__"].partition(":")
+        if not module.startswith(("dem_core.", "comparisons.")):
+            raise ValueError(f"unexpected record type {obj['__record__']!r}")
+        return getattr(importlib.import_module(module), name)(**obj["fields"])
+    return store._decode(obj)
+
+
+def run_prepared(scene, folder, path, vtk=False, progress=None, kept=None):
+    """``run_scene`` after ``prepare``: (records, error). ``kept``: (model, records) of the
+    stages finished by an earlier run (``load_stages``): the stages after them run. Inside a
+    ``store.case_output`` the model and records are kept after each stage."""
     from dem_core.workflow.scene import build_model
-    from dem_core.workflow.stages import run_stages
+    from dem_core.workflow.stages import check_stages, run_stages
 
     say = progress or (lambda message: None)
+    keep = store.current()
     t0 = time.perf_counter()
-    model = build_model(scene)
+    model, records = kept if kept is not None else (build_model(scene), [])
     say(f"{scene.name}: {model.n_blocks} blocks, {int(model.contacts.n)} contacts, "
-        f"{len(scene.stages)} stages")
+        f"{len(scene.stages)} stages" + (f", {len(records)} kept from an earlier run (not run "
+                                         f"again)" if records else ""))
     stage_start = [time.perf_counter()]
-
-    def stage_done(message):
-        stage_start[0] = time.perf_counter()
-        say(message)
 
     def level_done(i, stage, m, rec):
         say(level_line(i, stage, rec, time.perf_counter() - stage_start[0]))
 
     error = None
     try:
-        records = run_stages(model, scene.stages, progress=stage_done, on_level=level_done)
+        check_stages(scene.stages, set(model.blocks.groups), model.materials)
+        for i in range(len(records), len(scene.stages)):
+            stage_start[0] = time.perf_counter()
+            rec = run_stages(model, [scene.stages[i]],
+                             on_level=lambda j, st, m, r, i=i: level_done(i, st, m, r))[0]
+            rec = dataclasses.replace(rec, index=i)
+            records.append(rec)
+            say(f"stage {i} {rec.kind}: {rec.verdict}, {rec.steps} steps, {rec.seconds:.1f} s")
+            if keep is not None:
+                _save_stages(keep, model, records)
     except Exception as e:          # kept in the outputs with the stages before it
-        records, error = getattr(e, "records", []), e
+        error = e
     write_outputs(folder, scene, path, model, records, error, time.perf_counter() - t0, vtk)
     return records, error
 

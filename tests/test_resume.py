@@ -151,8 +151,8 @@ def test_a_case_resumes_from_the_command_line_and_writes_vtk(tmp_path, monkeypat
     folder = tmp_path / "a" / "longtan"
     assert summary(folder) == summary(tmp_path / "b" / "longtan")
 
-    kept = {r["label"]: r for r in (store.loads(f.read_text())
-                                    for f in (folder / "members").glob("*.json"))}
+    kept = {r["label"]: r for r in (store.loads(f.read_text())["result"]
+                                    for f in (folder / "members").glob("run_member-*.json"))}
     assert sorted(kept) == ["T=4.81", "conventional"]
     for label, name in (("T=4.81", "T4.81"), ("conventional", "conventional")):
         mesh = meshio.read(folder / "vtk" / f"{name}.vtu")
@@ -232,3 +232,77 @@ def test_the_lab_case_keeps_every_dem_run_and_resumes_to_the_same_report(tmp_pat
     folder = tmp_path / "lajtai"
     assert (folder / "shear_specimens.png").exists() and (folder / "ucs.png").exists()
     assert (folder / "vtk" / "lajtai_open_sn1.2.vtu").exists()
+
+
+def test_a_kept_result_of_other_settings_is_refused_and_restart_starts_over(tmp_path):
+    """Each kept member records the run's source; resuming with another source is refused,
+    naming the file, before anything runs; ``restart`` (and a run without resume) deletes
+    the kept results."""
+    (tmp_path / "calls").mkdir()
+    params = [{"x": x, "calls": str(tmp_path / "calls"), "fail": str(tmp_path / "never")}
+              for x in XS]
+    with store.case_output(tmp_path / "run", source="a") as out:
+        run_sweep(member, params)
+    kept = store.loads(out.member_path(member, params[0]).read_text())
+    assert kept["source"] == {"member": store.member_key(member, params[0]), "run": "a"}
+    with pytest.raises(store.StaleResult, match="settings changed since it was written") as e:
+        with store.case_output(tmp_path / "run", resume=True, source="b"):
+            pytest.fail("entered")
+    assert str(out.members) in str(e.value) and len(str(e.value).splitlines()) == 1
+    with store.case_output(tmp_path / "run", resume=True, source="a"):
+        run_sweep(member, params)
+    assert calls(tmp_path / "calls") == XS                      # resumed: none ran again
+    with store.case_output(tmp_path / "run", resume=True, source="b", restart=True):
+        run_sweep(member, params)
+    assert calls(tmp_path / "calls") == sorted(XS * 2)          # restarted: all ran
+    assert store.source_hash({"a": 1, "b": [2]}) == store.source_hash({"b": [2], "a": 1})
+
+
+def test_a_checkpoint_of_other_settings_or_cut_short_is_refused_by_name(tmp_path):
+    with store.case_output(tmp_path / "run", source="a"):
+        stem = Path(store.checkpoint({"x": 1}))
+    assert json.loads(Path(str(stem) + ".source.json").read_text())["run"] == "a"
+    Path(str(stem) + ".json").write_text('{"record": {"level": [1.0]}, "step": 10}')
+    with store.case_output(tmp_path / "run", resume=True, source="a"):
+        pass                                                    # the same source: kept
+    with pytest.raises(store.StaleResult, match="changed since it was written") as e:
+        with store.case_output(tmp_path / "run", resume=True, source="b"):
+            pass
+    assert str(stem) + ".json" in str(e.value)
+    Path(str(stem) + ".json").write_text('{"record": {"lev')    # cut short
+    with pytest.raises(ValueError, match="not valid JSON") as e:
+        with store.case_output(tmp_path / "run", resume=True, source="a"):
+            pass
+    assert str(stem) + ".json" in str(e.value) and len(str(e.value).splitlines()) == 1
+
+
+def test_the_command_line_refuses_a_resume_with_other_settings_before_the_case_runs(
+        tmp_path, monkeypatch, capsys):
+    import types
+
+    from comparisons import registry
+
+    class Ran(Exception):
+        pass
+
+    def run(variant, seed, progress):
+        raise Ran(variant)
+
+    fake = types.SimpleNamespace(__name__="comparisons.fake", VARIANTS={"quick": {"x": 1}},
+                                 run=run)
+    monkeypatch.setattr(registry, "case_module", lambda name: fake)
+    (tmp_path / "calls").mkdir()
+    params = [{"x": 1.0, "calls": str(tmp_path / "calls"), "fail": str(tmp_path / "never")}]
+    with store.case_output(tmp_path / "fake", source=cli.case_source(fake, "fake", "quick",
+                                                                     "quick", 1)) as out:
+        run_sweep(member, params)
+    args = ["run", "fake", "--quick", "--out", str(tmp_path), "--resume"]
+    assert cli.main(args + ["--set", "x=2"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and str(out.member_path(member, params[0])) in err
+    assert "--restart" in err
+    with pytest.raises(Ran):                    # the same settings get to the case's run
+        cli.main(args)
+    with pytest.raises(Ran):                    # so does --restart, which deletes them
+        cli.main(args + ["--set", "x=2", "--restart"])
+    assert not list(out.members.glob("*.json"))

@@ -1,6 +1,8 @@
 """``python -m comparisons run-scene FILE``: a scene file run from the command line writes what
 a case writes (summary, stage table, a picture of the blocks, the model for ParaView), and its
-numbers are those of ``run_stages`` on the same scene."""
+numbers are those of ``run_stages`` on the same scene. ``--resume`` goes on after the stages an
+earlier run of the same scene and ``--set`` kept, and refuses those of a changed scene
+(``--restart`` starts over)."""
 import csv
 import json
 import math
@@ -105,3 +107,110 @@ def test_an_unwritable_out_is_refused_before_the_model_is_built(tmp_path, capsys
     (tmp_path / "out").write_text("a file")
     assert cli.main(["run-scene", str(path), "--out", str(tmp_path / "out")]) == 2
     assert "cannot write results" in capsys.readouterr().err
+
+
+def quick_block():
+    """The tilted block with two short stages: a resumable run in a second."""
+    th = math.radians(TILT)
+    return tilted_block(stages=[Gravity(1.0, direction=(math.sin(th), -math.cos(th))),
+                                Solve(ratio=1e-4, max_steps=3000)])
+
+
+def test_a_resume_is_refused_after_the_scene_changed_and_restart_starts_over(tmp_path, capsys,
+                                                                            monkeypatch):
+    import dem_core.workflow.stages as stages_module
+
+    path, out = tmp_path / "tilted.json", str(tmp_path / "out")
+    quick_block().save(path)
+    assert cli.main(["run-scene", str(path), "--out", out, "--quiet"]) == 0
+    kept = tmp_path / "out" / "tilted_block" / "members" / "checkpoint-stages.json"
+    assert kept.exists()
+    first = json.loads((kept.parent.parent / "summary.json").read_text())
+
+    # the unchanged scene resumes from its kept stages: no stage runs again
+    ran, real = [], stages_module.run_stages
+    monkeypatch.setattr(stages_module, "run_stages",
+                        lambda *a, **k: ran.append(1) or real(*a, **k))
+    capsys.readouterr()
+    assert cli.main(["run-scene", str(path), "--out", out, "--resume"]) == 0
+    assert ran == [] and "2 kept from an earlier run" in capsys.readouterr().err
+    again = json.loads((kept.parent.parent / "summary.json").read_text())
+    assert [(s["steps"], s["points"]) for s in again["stages"]] == \
+        [(s["steps"], s["points"]) for s in first["stages"]]
+
+    # the scene file changed: refused before any compute, naming the kept file
+    sc = quick_block()
+    sc.density = 2600.0                             # the same scene, another density
+    sc.save(path)
+    assert cli.main(["run-scene", str(path), "--out", out, "--resume"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and str(kept) in err
+    assert "scene or settings changed since it was written" in err and "--restart" in err
+    assert ran == []
+    # so are other --set items than those of the kept run
+    quick_block().save(path)
+    assert cli.main(["run-scene", str(path), "--out", out, "--resume",
+                     "--set", 'solver={"damping": 0.5}']) == 2
+    assert "changed since it was written" in capsys.readouterr().err
+    # --restart deletes the kept stages and runs the scene with its --set
+    assert cli.main(["run-scene", str(path), "--out", out, "--resume", "--restart", "--quiet",
+                     "--set", 'solver={"damping": 0.5}']) == 0
+    assert len(ran) == 2
+    assert cli.main(["run-scene", str(path), "--out", out, "--resume", "--quiet",
+                     "--set", 'solver={"damping": 0.5}']) == 0
+    assert len(ran) == 2                       # the same --set resumes
+
+
+def test_an_interrupted_scene_run_goes_on_after_its_last_kept_stage(tmp_path, monkeypatch):
+    import dem_core.workflow.stages as stages_module
+
+    path, out = tmp_path / "tilted.json", str(tmp_path / "out")
+    quick_block().save(path)
+    assert cli.main(["run-scene", str(path), "--out", str(tmp_path / "straight"),
+                     "--quiet"]) == 0
+    real, ran = stages_module.run_stages, []
+
+    def run_stages(model, stages, **kw):
+        ran.append(type(stages[0]).__name__)
+        if len(ran) == 2 and kill:
+            raise KeyboardInterrupt                 # Ctrl-C in the second stage
+        return real(model, stages, **kw)
+
+    kill = [1]
+    monkeypatch.setattr(stages_module, "run_stages", run_stages)
+    with pytest.raises(KeyboardInterrupt):
+        cli.main(["run-scene", str(path), "--out", out, "--quiet"])
+    kill.clear()
+    assert cli.main(["run-scene", str(path), "--out", out, "--quiet", "--resume"]) == 0
+    assert ran == ["Gravity", "Solve", "Solve"]     # the kept stage did not run again
+    a, b = (json.loads((tmp_path / d / "tilted_block" / "summary.json").read_text())
+            for d in ("out", "straight"))
+    assert [(s["kind"], s["verdict"], s["steps"], s["time"], s["points"], s["cracks"])
+            for s in a["stages"]] == [(s["kind"], s["verdict"], s["steps"], s["time"],
+                                       s["points"], s["cracks"]) for s in b["stages"]]
+
+
+def test_a_cut_checkpoint_is_one_line_naming_it(tmp_path, capsys):
+    path, out = tmp_path / "tilted.json", str(tmp_path / "out")
+    quick_block().save(path)
+    assert cli.main(["run-scene", str(path), "--out", out, "--quiet"]) == 0
+    kept = tmp_path / "out" / "tilted_block" / "members" / "checkpoint-stages.json"
+    kept.write_text(kept.read_text()[:40])
+    capsys.readouterr()
+    assert cli.main(["run-scene", str(path), "--out", out, "--resume"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and str(kept) in err and "not valid JSON" in err
+    assert "Traceback" not in err
+
+
+@pytest.mark.parametrize("item, words", [("density", "--set takes KEY=VALUE"),
+                                         ("solver=3", "--set solver: expected a JSON object"),
+                                         ("densty=2", "did you mean 'density'"),
+                                         ("density=-1", "density")])
+def test_a_bad_set_is_one_line_before_any_compute(tmp_path, capsys, item, words):
+    path = tmp_path / "tilted.json"
+    quick_block().save(path)
+    assert cli.main(["run-scene", str(path), "--out", str(tmp_path), "--set", item]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and words in err
+    assert not (tmp_path / "tilted_block").exists()
