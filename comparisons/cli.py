@@ -1,6 +1,12 @@
 """Command line: ``python -m comparisons list | run CASE [--quick|--full] [--set KEY=VALUE ...]
 [--out DIR] [--resume] [--restart] [--vtk] | run-scene FILE [--set KEY=VALUE ...] [--out DIR]
-[--resume] [--restart] [--vtk] | demo``.
+[--resume] [--restart] [--vtk] [--check] | demo``.
+
+``run-scene FILE --check`` checks the scene and builds its model (blocks and contacts, no
+step), draws it to ``OUT/<scene name>/check.png`` and prints one line (blocks, contacts, the
+stages); nothing is computed and nothing an earlier run kept is touched
+(``comparisons.run_scene.check_scene``). A run-scene run ends with one line per stage giving its
+verdict with its number (``comparisons.run_scene.verdict_lines``).
 
 ``--set`` changes one setting of the chosen variant (a key of the case's ``VARIANTS``; VALUE
 is JSON, else a string), e.g. ``run adhikary --full --set 'solver={"edge_elements": true}'``
@@ -65,6 +71,10 @@ def main(argv=None) -> int:
     scene.add_argument("--restart", action="store_true", help=RESTART_HELP)
     scene.add_argument("--vtk", action="store_true",
                        help="write the final state for ParaView to OUT/<scene name>/")
+    scene.add_argument("--check", action="store_true",
+                       help="check the scene and draw the model as built to OUT/<scene name>/"
+                            "check.png (blocks, joints, boundaries, points, water table); "
+                            "no step is run")
     scene.add_argument("--quiet", action="store_true")
     demo = sub.add_parser("demo", help="the README's main job: the quick showcase case")
     demo.add_argument("--out", default="results")
@@ -76,6 +86,8 @@ def main(argv=None) -> int:
             print(f"{name:12s} {module.DESCRIPTION}")
         return 0
     if args.command == "run-scene":
+        if args.check:
+            return check_scene_file(args.file, Path(args.out), settings=args.set)
         return run_scene_file(args.file, Path(args.out), args.vtk, args.quiet,
                               settings=args.set, resume=args.resume, restart=args.restart)
     if args.command == "demo":
@@ -188,14 +200,32 @@ def run_scene_file(path, out: Path, vtk: bool = False, quiet: bool = False, sett
         t0 = time.perf_counter()
         records, error = run_prepared(scene, folder, path, vtk=vtk, progress=progress,
                                       kept=kept)
+    from comparisons.run_scene import verdict_lines
+
     n = len(records)
     print(f"{Path(path).name}: {n} stage{'s' if n != 1 else ''} run, "
           f"{time.perf_counter() - t0:.1f} s with the outputs")
-    for r in records:
-        print(f"  stage {r.index} {r.kind}: {r.verdict}, {r.steps} steps")
     print(f"results written to {folder.resolve()}/ (report: {(folder / 'report.md').resolve()})")
+    print("Verdicts:")
+    for line in verdict_lines(records, error, scene.stages):
+        print(f"  {line}")
     if error is not None:
         print(f"{PROG}: stage {len(records)} stopped the run: {type(error).__name__}: {error}",
               file=sys.stderr)
         return 1
+    return 0
+
+
+def check_scene_file(path, out: Path, settings=()) -> int:
+    """``run-scene FILE --check``: check the scene, build its model (no step), draw it to
+    ``out/<scene name>/check.png`` and print one line: the blocks, contacts and stages
+    (``comparisons.run_scene.check_scene``). A scene that does not load or whose stages or
+    monitoring points do not fit its model is refused (``fail``, status 2)."""
+    from comparisons.run_scene import check_scene
+
+    try:
+        _, line = check_scene(path, out, settings)
+    except ValueError as e:
+        return fail(str(e))
+    print(line)
     return 0

@@ -23,6 +23,19 @@ then holds, like a case's folder:
 - ``report.md``: the results, the stage table (``stage_table``, mm), the picture;
 - ``<scene name>.vtu`` with ``--vtk``: the final state for ParaView (``Model.write_vtk``).
 
+The run ends with one line per stage giving its verdict with its number (``verdict_lines``: a
+factor of safety ``factor of safety 1.30 (1.35 fails)``, a strength schedule's last stable and
+failed values, a g-ramp's failure g and last stable g, a solve's verdict and steps; a stage
+that raised says it stopped the run, those after it that they did not run); ``report.md``
+starts with the same lines under "## Verdicts".
+
+Checking a scene (``--check``, ``check_scene``): the scene is loaded and checked, the model
+built (blocks and contacts, no step) and its stages checked against it; ``<out>/<scene
+name>/check.png`` draws it (``check_figure``: blocks coloured by region, joints, the groups
+with boundaries hatched, the groups a stage excavates outlined, the monitoring points
+labelled, each water table a stage sets, the cables a stage installs). Nothing is computed and
+nothing a run kept is touched.
+
 ``--set KEY=VALUE`` (``apply_settings``) changes a top-level key of the scene file (VALUE as
 JSON, else a string): ``solver`` is laid over the file's solver options (``--set
 'solver={"damping": 0.5}'``), any other key (``density``, ``block_nu``, ``stages``, ...) is
@@ -58,7 +71,10 @@ from comparisons import store
 from comparisons.store import check_folder
 
 __all__ = ["prepare", "run_scene", "run_prepared", "scene_folder", "RESULT_KEYS",
-           "apply_settings", "scene_source", "load_stages", "STAGES_CHECKPOINT"]
+           "apply_settings", "scene_source", "load_stages", "STAGES_CHECKPOINT", "check_scene",
+           "check_figure", "verdict_line", "verdict_lines", "CHECK_PICTURE"]
+
+CHECK_PICTURE = "check.png"                 # <out>/<scene name>/<this>, written by --check
 
 STAGES_CHECKPOINT = "checkpoint-stages"     # <members>/<this>.npz and .json
 
@@ -143,6 +159,197 @@ def run_scene(path, out="results", vtk: bool = False, progress=None, settings=()
                            restart=restart) as keep:
         kept = load_stages(keep) if keep.resume else None
         return (folder,) + run_prepared(scene, folder, path, vtk, progress, kept=kept)
+
+
+def check_scene(path, out="results", settings=()):
+    """``run-scene FILE --check``: load and check the scene (``prepare``), build its model
+    (``build_model``: blocks and contacts, no step), check its stages against the model
+    (``check_stages``) and draw it to ``<folder>/check.png`` (``check_figure``). Nothing is
+    computed and no kept result is touched. Returns (folder, line): the line gives the block
+    and contact counts and the stages' kinds. ValueError for a scene that does not load or
+    whose stages or points do not fit the model."""
+    import matplotlib.pyplot as plt
+
+    from dem_core.workflow.scene import build_model
+    from dem_core.workflow.stages import check_stages, stage_to_dict
+
+    scene, folder = prepare(path, out, settings)
+    model = build_model(scene)
+    check_stages(scene.stages, set(model.blocks.groups), model.materials)
+    fig = check_figure(scene, model)
+    picture = folder / CHECK_PICTURE
+    fig.savefig(picture, dpi=110, bbox_inches="tight")
+    plt.close(fig)
+    kinds = ", ".join(f"{i} {stage_to_dict(st)['kind']}" for i, st in enumerate(scene.stages))
+    line = (f"{scene.name}: {model.n_blocks} blocks, {int(model.contacts.n)} contacts; "
+            f"{len(scene.stages)} stage{'s' if len(scene.stages) != 1 else ''}: "
+            f"{kinds or 'none'}; nothing run; picture {picture}")
+    return folder, line
+
+
+def check_figure(scene, model):
+    """The model as built, before any step: blocks coloured by region
+    (``dem_core.geometry.plot.plot_block_system``: flaws thin, joints bold crimson), the groups
+    with boundaries hatched, the groups a stage excavates outlined (dashed), the cables a stage
+    installs, each water table a stage sets, the monitoring points labelled; the title (the
+    scene's name, counts and stages) inside the figure."""
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import PolyCollection
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    from dem_core.geometry.plot import plot_block_system
+    from dem_core.workflow.scene import group_sides
+    from dem_core.workflow.stages import Cable, Excavate, WaterTable, stage_to_dict
+    from dem_core.workflow.water import surface_height
+
+    bs = model.blocks
+    fig, ax = plt.subplots(figsize=(9, 7))
+    cmap = plt.get_cmap("tab20")
+    colours = [cmap(i % 20) for i in range(len(bs.region_names))]
+    plot_block_system(bs, ax, region_colors=colours)
+    handles = [Patch(facecolor=colours[i], alpha=0.6, label=f"region {name}")
+               for i, name in enumerate(bs.region_names) if np.any(bs.region_id == i)][:12]
+    joint = np.array([n.startswith("joint:") for n in bs.material_names], bool)
+    if bs.n_edges and joint[bs.edge_material].any():
+        handles.append(Line2D([], [], color="crimson", lw=1.2, label="joints"))
+
+    def polys(group):
+        return [bs.block_vertices(b) for b in model.group(group)]
+
+    v = np.asarray(bs.vertices)
+    (x0, y0), (x1, y1) = v.min(axis=0), v.max(axis=0)
+    box = {"left": ([x0, x0], [y0, y1]), "right": ([x1, x1], [y0, y1]),
+           "bottom": ([x0, x1], [y0, y0]), "top": ([x0, x1], [y1, y1])}
+    styles = [("0.15", "//"), ("saddlebrown", "\\\\"), ("darkgreen", "||"), ("navy", "--")]
+    for j, b in enumerate(scene.boundaries):
+        colour, hatch = styles[j % len(styles)]
+        fixed = ", ".join(k for k, on in (("x", b.x), ("y", b.y), ("rotation", b.rotation))
+                          if on) or "nothing"
+        sides = group_sides(scene, b.group) or []
+        ax.add_collection(PolyCollection(polys(b.group), facecolors="none", edgecolors=colour,
+                                         hatch=hatch, linewidths=0.6))
+        for side in sides:                          # where it is held, drawn thick
+            ax.plot(*_held_stretch(polys(b.group), side, box[side]), "-", color=colour, lw=4,
+                    solid_capstyle="butt")
+        handles.append(Patch(facecolor="none", edgecolor=colour, hatch=hatch,
+                             label=f"boundary: {b.group} (fixed {fixed}"
+                                   + (f"; on the {' and '.join(sides)}" if sides else "")
+                                   + ")"))
+    xs = np.linspace(x0, x1, 200)
+    dug = [f"{st.group} (stage {i})" for i, st in enumerate(scene.stages)
+           if isinstance(st, Excavate)]
+    if dug:
+        handles.append(Line2D([], [], color="magenta", ls="--", lw=1.6,
+                              label=_wrap("excavated: " + ", ".join(dug), 45)))
+    for i, st in enumerate(scene.stages):
+        if isinstance(st, Excavate):
+            ax.add_collection(PolyCollection(polys(st.group), facecolors="none",
+                                             edgecolors="magenta", linestyles="--",
+                                             linewidths=1.6))
+        elif isinstance(st, WaterTable) and st.surface is not None:
+            line, = ax.plot(xs, surface_height(st.surface, xs), "-", color="tab:blue", lw=1.8,
+                            label=f"water table (stage {i})")
+            handles.append(line)
+        elif isinstance(st, Cable):
+            (ca, cb), (ea, eb) = st.collar, st.end
+            line, = ax.plot([ca, ea], [cb, eb], "-", color="purple", lw=1.5,
+                            label=f"cable (stage {i})")
+            handles.append(line)
+    for name, (px, py) in scene.points.items():
+        ax.plot(px, py, "k^", ms=7)
+        ax.annotate(name, (px, py), xytext=(5, 5), textcoords="offset points", fontsize=9,
+                    bbox=dict(boxstyle="round,pad=0.2", fc="white", ec="0.5", alpha=0.8))
+    if scene.points:
+        handles.append(Line2D([], [], color="k", marker="^", ls="", label="monitoring points"))
+    ax.autoscale_view()
+    kinds = ", ".join(f"{i} {stage_to_dict(st)['kind']}" for i, st in enumerate(scene.stages))
+    ax.set_title(_wrap(f"{scene.name}: {model.n_blocks} blocks, {int(model.contacts.n)} "
+                       f"contacts, as built (no step run)") + "\n"
+                 + _wrap(f"stages: {kinds or 'none'}"), fontsize=10)
+    if handles:
+        ax.legend(handles=handles, fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0),
+                  borderaxespad=0.0)
+    fig.tight_layout()
+    return fig
+
+
+def _wrap(text, width=90) -> str:
+    import textwrap
+
+    return "\n".join(textwrap.wrap(text, width)) or text
+
+
+def verdict_line(r) -> str:
+    """A stage's verdict with its number, for a reader at a glance (``StageRecord`` ``r``):
+    a factor of safety's last F that stood and first that failed, a strength schedule's last
+    stable and failed values, a g-ramp's failure g and last stable g, a solve's verdict and
+    steps, any other stage's verdict (and steps, if it took any)."""
+    d, head = r.detail, f"stage {r.index} {r.kind}: "
+    if r.kind == "factor_of_safety":
+        text = _search_text(d.get("factor_of_safety"), d.get("first_failed"), d.get("F"), r,
+                            lambda v: f"{v:.2f}", "factor of safety", "F = ", "level")
+    elif r.kind == "strength_schedule":
+        prop = getattr(d.get("search"), "parameter", None) or "value"
+        text = _search_text(d.get("last_stable_value"), d.get("failure_value"),
+                            d.get("values"), r, lambda v: f"{v:.4g}", prop, f"{prop} ",
+                            "value")
+    elif r.kind == "raise_gravity":
+        text = _search_text(d.get("last_stable_g"), d.get("failure_g"), d.get("g"), r,
+                            lambda v: f"{v:g} g", "failure g", "", "level")
+    else:
+        text = r.verdict + (f", {r.steps} steps" if r.steps or r.kind in ("solve", "cycle")
+                            else "")
+    return head + text
+
+
+def _search_text(stood, failed, levels, r, fmt, what, prefix, unit) -> str:
+    """A search's verdict: the limit lies between the last level that stood and the first that
+    failed (``fmt`` writes a level, ``what`` names the result, ``unit`` a level)."""
+    levels = list(levels or [])
+    steps = f"; {r.steps} steps"
+    if r.verdict == "unstable":
+        last = "no level stood" if stood is None else f"the last that stood {prefix}{fmt(stood)}"
+        return f"the model became numerically unstable, no failure level ({last}){steps}"
+    if what == "factor of safety":
+        if failed is not None and stood is not None:
+            return f"factor of safety {fmt(stood)} ({fmt(failed)} fails){steps}"
+        if failed is not None:
+            return (f"factor of safety below {fmt(failed)} (the first level, F = "
+                    f"{fmt(failed)}, fails){steps}")
+        top = stood if stood is not None else (max(levels) if levels else float("nan"))
+        return f"factor of safety above {fmt(top)} (the last level stands){steps}"
+    if what == "failure g":
+        if failed is not None and stood is not None:
+            return f"fails at {fmt(failed)} (last stable {fmt(stood)}){steps}"
+        if failed is not None:
+            return f"fails at {fmt(failed)}, the first level{steps}"
+        return f"no failure: stands at {fmt(stood) if stood is not None else '?'}, the last " \
+               f"level{steps}"
+    if failed is not None and stood is not None:
+        return f"{what} {fmt(stood)} stands, {fmt(failed)} fails{steps}"
+    if failed is not None:
+        return f"{what} fails at {fmt(failed)}, the first {unit}{steps}"
+    return f"no failure: {what} {fmt(stood) if stood is not None else '?'} (the last {unit}) " \
+           f"stands{steps}"
+
+
+def verdict_lines(records, error=None, stages=()) -> list:
+    """``verdict_line`` of each stage that ran; with ``error`` (what the next of the scene's
+    ``stages`` raised) a line saying that stage failed and stopped the run, and one for the
+    stages after it, not run."""
+    from dem_core.workflow.stages import stage_to_dict
+
+    lines = [verdict_line(r) for r in records]
+    if error is not None:
+        i = records[-1].index + 1 if records else 0
+        kind = f" {stage_to_dict(stages[i])['kind']}" if i < len(stages) else ""
+        lines.append(f"stage {i}{kind}: FAILED, it stopped the run: {type(error).__name__}: "
+                     f"{error}")
+        if len(stages) > i + 1:
+            lines.append(f"stages {i + 1}..{len(stages) - 1}: not run" if len(stages) > i + 2
+                         else f"stage {i + 1}: not run")
+    return lines
 
 
 def _checkpoint_stem(keep) -> Path:
@@ -289,7 +496,8 @@ def write_outputs(folder: Path, scene, path, model, records, error, runtime_s, v
     plt.close(fig)
     if vtk:
         model.write_vtk(folder / f"{folder.name}.vtu")
-    (folder / "report.md").write_text(_report(summary, records, curves, vtk, folder.name))
+    (folder / "report.md").write_text(_report(summary, records, curves, vtk, folder.name,
+                                              verdict_lines(records, error, scene.stages)))
 
 
 def _stage_summary(r) -> dict:
@@ -362,10 +570,12 @@ def block_figure(scene, model, records):
     return fig
 
 
-def _report(summary, records, curves, vtk, name) -> str:
+def _report(summary, records, curves, vtk, name, verdicts=()) -> str:
     from dem_core.workflow.stages import stage_table
 
-    lines = [f"# {summary['scene']} (scene file, DEM)", "", f"File: `{summary['file']}`"]
+    lines = [f"# {summary['scene']} (scene file, DEM)", "", "## Verdicts", ""]
+    lines += [f"- {v}" for v in verdicts] or ["(no stage ran)"]
+    lines += ["", "## Scene", "", f"File: `{summary['file']}`"]
     if summary["description"]:
         lines += ["", summary["description"]]
     lines += ["", f"{summary['blocks']} blocks, {summary['contacts']} contacts; "
@@ -386,3 +596,16 @@ def _report(summary, records, curves, vtk, name) -> str:
             lines += [f"- `{name}.vtu`: the final state for ParaView (docs/output.md)"]
     lines += ["", "## Software", ""] + [f"- {k}: {v}" for k, v in summary["versions"].items()]
     return "\n".join(lines) + "\n"
+
+
+def _held_stretch(polygons, side, line):
+    """The part of the box side ``line`` ((xs, ys), two points) that the group's polygons
+    touch: the extent of their vertices on that side (the whole side if none lies on it)."""
+    (xa, xb), (ya, yb) = line
+    pts = np.concatenate(polygons) if polygons else np.zeros((0, 2))
+    tol = 1e-9 * max(abs(xb - xa), abs(yb - ya), 1.0)
+    if side in ("left", "right"):
+        on = pts[np.abs(pts[:, 0] - xa) <= tol]
+        return ([xa, xa], [on[:, 1].min(), on[:, 1].max()]) if on.size else line
+    on = pts[np.abs(pts[:, 1] - ya) <= tol]
+    return ([on[:, 0].min(), on[:, 0].max()], [ya, ya]) if on.size else line

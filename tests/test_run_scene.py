@@ -16,7 +16,9 @@ from dem_core.geometry import GeometrySpec
 from dem_core.geometry.regions import rectangle
 from dem_core.contact.materials import Material
 from dem_core.workflow.scene import Boundary, Scene, build_model
-from dem_core.workflow.stages import Excavate, FactorOfSafety, Gravity, Solve, run_stages, stage_table
+from dem_core.workflow.stages import (Excavate, FactorOfSafety, Gravity, Solve, StageRecord,
+                                     WaterTable, run_stages, stage_table)
+from comparisons.run_scene import verdict_line, verdict_lines
 
 TILT, PHI = 20.0, 30.0
 
@@ -41,7 +43,7 @@ def test_a_scene_file_runs_from_the_command_line_with_the_runners_numbers(tmp_pa
     path = tmp_path / "tilted.json"
     sc.save(path)
     assert cli.main(["run-scene", str(path), "--out", str(tmp_path / "out"), "--vtk"]) == 0
-    err = capsys.readouterr().err                   # a line per stage and per search level
+    out, err = capsys.readouterr()                  # a line per stage and per search level
     assert "stage 1 solve: equilibrium" in err
     assert re.search(r"stage 2 F = 1.25 \(level 2/4\): equilibrium, \d+ steps, elapsed "
                      r"[\d.]+ s, left ~[\d.]+ s", err)
@@ -76,6 +78,15 @@ def test_a_scene_file_runs_from_the_command_line_with_the_runners_numbers(tmp_pa
     vtu = meshio.read(folder / "tilted_block.vtu")
     assert sum(len(c.data) for c in vtu.cells) >= 2
 
+    # the console's last lines and the top of report.md: each stage's verdict with its number
+    verdicts = ["stage 0 gravity: set",
+                f"stage 1 solve: equilibrium, {records[1].steps} steps",
+                f"stage 2 factor_of_safety: factor of safety {fos:.2f} "
+                f"({records[2].detail['first_failed']:.2f} fails); {records[2].steps} steps"]
+    assert out.strip().splitlines()[-4:] == ["Verdicts:"] + [f"  {v}" for v in verdicts]
+    report = (folder / "report.md").read_text().splitlines()
+    assert report[2:4] == ["## Verdicts", ""] and report[4:7] == [f"- {v}" for v in verdicts]
+
 
 def test_a_stage_that_raises_keeps_the_stages_before_it(tmp_path, capsys):
     sc = tilted_block(stages=[Gravity(1.0), Solve(ratio=1e-6, max_steps=20_000),
@@ -84,7 +95,11 @@ def test_a_stage_that_raises_keeps_the_stages_before_it(tmp_path, capsys):
     path = tmp_path / "bad.json"
     sc.save(path)
     assert cli.main(["run-scene", str(path), "--out", str(tmp_path), "--quiet"]) == 1
-    assert "stage 2 stopped the run" in capsys.readouterr().err
+    out, err = capsys.readouterr()
+    assert "stage 2 stopped the run" in err
+    last = out.strip().splitlines()[-1]
+    assert last.startswith("  stage 2 excavate: FAILED, it stopped the run: ValueError")
+    assert f"- {last.strip()}" in (tmp_path / "tilted_block" / "report.md").read_text()
     summary = json.loads((tmp_path / "tilted_block" / "summary.json").read_text())
     assert [s["kind"] for s in summary["stages"]] == ["gravity", "solve"]
     assert "nothing" in summary["error"]
@@ -214,3 +229,74 @@ def test_a_bad_set_is_one_line_before_any_compute(tmp_path, capsys, item, words)
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and words in err
     assert not (tmp_path / "tilted_block").exists()
+
+
+def test_check_draws_the_model_as_built_and_runs_no_step(tmp_path, capsys, monkeypatch):
+    from dem_core.model import Model
+
+    def no_step(*a, **k):
+        raise AssertionError("--check ran a step")
+
+    monkeypatch.setattr(Model, "cycle", no_step)
+    monkeypatch.setattr(Model, "solve", no_step)
+    th = math.radians(TILT)
+    sc = tilted_block(stages=[Gravity(1.0, direction=(math.sin(th), -math.cos(th))),
+                              WaterTable(1.2), Solve(ratio=1e-6, max_steps=20_000),
+                              FactorOfSafety(("*",), f_levels=(1.0, 1.5))])
+    path = tmp_path / "tilted.json"
+    sc.save(path)
+    assert cli.main(["run-scene", str(path), "--out", str(tmp_path), "--check"]) == 0
+    out = capsys.readouterr().out.strip().splitlines()
+    folder = tmp_path / "tilted_block"
+    n_contacts = int(build_model(sc).contacts.n)
+    assert len(out) == 1
+    assert out[0].startswith(f"tilted block: 2 blocks, {n_contacts} contacts; 4 stages: "
+                             f"0 gravity, 1 water, 2 solve, 3 factor_of_safety;")
+    assert str(folder / "check.png") in out[0]
+    assert (folder / "check.png").stat().st_size > 10_000
+    assert sorted(p.name for p in folder.iterdir()) == ["check.png"]   # no run's outputs
+
+
+def test_check_refuses_a_bad_scene_in_one_line(tmp_path, capsys):
+    path = tmp_path / "tilted.json"
+    tilted_block().save(path)
+    d = json.loads(path.read_text())
+    d["stages"][2]["materials"] = ["no such"]
+    path.write_text(json.dumps(d))
+    assert cli.main(["run-scene", str(path), "--out", str(tmp_path), "--check"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "no such" in err
+
+
+def record(kind, verdict, steps=100, index=2, **detail):
+    return StageRecord(index, kind, steps, verdict, 0.0, {}, {}, 0.0, detail)
+
+
+@pytest.mark.parametrize("detail, verdict, text", [
+    ({"factor_of_safety": 1.3, "first_failed": 1.35, "F": [1.0, 1.5, 1.3, 1.35]}, "failed",
+     "factor of safety 1.30 (1.35 fails)"),
+    ({"factor_of_safety": None, "first_failed": 1.0, "F": [1.0]}, "failed",
+     "factor of safety below 1.00 (the first level, F = 1.00, fails)"),
+    ({"factor_of_safety": 2.5, "first_failed": None, "F": [1.0, 2.5]}, "stood",
+     "factor of safety above 2.50 (the last level stands)")])
+def test_a_factor_of_safety_verdict_gives_the_bracket(detail, verdict, text):
+    assert verdict_line(record("factor_of_safety", verdict, **detail)) == \
+        f"stage 2 factor_of_safety: {text}; 100 steps"
+
+
+def test_the_other_verdicts_give_their_numbers():
+    from dem_core.workflow.limit import LimitRecord
+
+    ramp = record("raise_gravity", "failed", failure_g=45.0, last_stable_g=40.0, g=[40, 45])
+    assert verdict_line(ramp) == "stage 2 raise_gravity: fails at 45 g (last stable 40 g); " \
+        "100 steps"
+    sched = record("strength_schedule", "failed", last_stable_value=25.0, failure_value=20.0,
+                   values=[30, 25, 20], search=LimitRecord("friction"))
+    assert verdict_line(sched) == "stage 2 strength_schedule: friction 25 stands, 20 fails; " \
+        "100 steps"
+    solve = record("solve", "equilibrium", steps=1234, index=1)
+    assert verdict_line(solve) == "stage 1 solve: equilibrium, 1234 steps"
+    lines = verdict_lines([solve], ValueError("boom"), [Gravity(), Solve(), Excavate("a"),
+                                                        Solve()])
+    assert lines[1:] == ["stage 2 excavate: FAILED, it stopped the run: ValueError: boom",
+                         "stage 3: not run"]
