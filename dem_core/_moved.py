@@ -72,6 +72,28 @@ class OldPaths(importlib.abc.MetaPathFinder, importlib.abc.Loader):
         """Nothing to run: the new module is already imported."""
 
 
+def renamed(mapping: dict, renames: dict, where: str, noun: str = "key",
+            error=ValueError) -> dict:
+    """``mapping`` with each old name of ``renames`` (old -> new) replaced by its new one, a
+    DeprecationWarning naming both for each; ``error`` (naming ``where``) when a mapping gives
+    both spellings. The one rule for names renamed in this release (case parameters, the
+    zone-strength keys)."""
+    if not any(k in mapping for k in renames):
+        return mapping
+    out = {}
+    for k, v in mapping.items():
+        new = renames.get(k)
+        if new is None:
+            out[k] = v
+            continue
+        if new in mapping:
+            raise error(f"{where}: give {new!r} only, not also its old name {k!r}")
+        warnings.warn(f"{where}: the {noun} {k!r} is now {new!r} (the old name goes in the "
+                      "next release)", DeprecationWarning, stacklevel=3)
+        out[new] = v
+    return out
+
+
 def install() -> None:
     """Put ``OldPaths`` first on ``sys.meta_path`` (once)."""
     if not any(isinstance(f, OldPaths) for f in sys.meta_path):

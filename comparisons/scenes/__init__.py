@@ -1,8 +1,8 @@
 """Thesis scenes as data: geometry, materials and boundary conditions, one module per case."""
 
 import functools
-import warnings
 
+from dem_core._moved import renamed
 from dem_core.workflow.scene import Boundary
 
 # case parameters that were renamed: old name -> new name. The old names are still accepted
@@ -14,20 +14,7 @@ RENAMED_PARAMS = {"flaw_tensile": "flaw_tensile_strength"}
 def new_param_names(params: dict, where: str = "params") -> dict:
     """``params`` with each old name (``RENAMED_PARAMS``) renamed, warning for each
     (DeprecationWarning naming the new name); TypeError when both names are given."""
-    if not any(k in params for k in RENAMED_PARAMS):
-        return params
-    out = {}
-    for k, v in params.items():
-        new = RENAMED_PARAMS.get(k)
-        if new is None:
-            out[k] = v
-            continue
-        if new in params:
-            raise TypeError(f"{where}: give {new!r} only, not also its old name {k!r}")
-        warnings.warn(f"{where}: the parameter {k!r} is now {new!r} (the old name goes in the "
-                      "next release)", DeprecationWarning, stacklevel=3)
-        out[new] = v
-    return out
+    return renamed(params, RENAMED_PARAMS, where, "parameter", TypeError)
 
 
 def old_param_names(cls):

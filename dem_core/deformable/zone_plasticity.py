@@ -38,10 +38,11 @@ tensile strength T (Pa, >= 0, stored capped at c / tan phi).
 from __future__ import annotations
 
 import math
-import warnings
 
 import numpy as np
 from numba import njit
+
+from .._moved import renamed
 
 __all__ = ["strength_table", "elastic_table", "mohr_coulomb", "new_keys", "SHEAR", "TENSION",
            "SHEAR_PAST", "TENSION_PAST"]
@@ -56,20 +57,7 @@ OLD_KEYS = {"tensile": "tensile_strength"}
 def new_keys(row: dict, where="strength") -> dict:
     """``row`` (a strength dict) with each old key (``OLD_KEYS``) renamed to its new one, with a
     DeprecationWarning naming the new key; ValueError when both spellings are given."""
-    if not any(k in row for k in OLD_KEYS):
-        return row
-    out = {}
-    for k, v in row.items():
-        new = OLD_KEYS.get(k)
-        if new is None:
-            out[k] = v
-            continue
-        if new in row:
-            raise ValueError(f"{where}: give {new!r} only, not also its old name {k!r}")
-        warnings.warn(f"{where}: the key {k!r} is now {new!r} (the old name goes in the next "
-                      "release)", DeprecationWarning, stacklevel=3)
-        out[new] = v
-    return out
+    return renamed(row, OLD_KEYS, where, "key", ValueError)
 
 
 def elastic_table(nz):
