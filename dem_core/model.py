@@ -389,7 +389,8 @@ class Model:
         new = self.new_contact_material
         new_id = -1 if new is None else self.table.names.index(new)
         self.contacts, changed = search_contacts(self.world(), self.table, new_id,
-                                                 self.search_margin, self._moduli())
+                                                 self.search_margin, self._moduli(),
+                                                 self.options.divide_interfaces)
         if changed:
             self.update_timestep()
 

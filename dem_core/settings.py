@@ -55,6 +55,10 @@ class SolverOptions:
     edge_elements : the two contacts of a shared edge act as one linear interface element
         (``contact.forces.edge_correction``): the exact bending of a bonded edge.
     rounding : corner rounding radius d, m (0: sharp corners; ``contact.rounding``).
+    divide_interfaces : at each contact search, divide every interface whose contacts have
+        changed or slid among them from the current geometry (``contact.division``), and cut
+        a new contact's length to the face it touches; False (the default for now): lengths
+        as made (docs/mechanics.md, "Contact lengths after sliding", gives why).
     deformable : {block group or "*": zone size m} (None: rigid blocks; ``deformable``).
     zone_strength : {block group or "*": dict(cohesion=Pa, friction=deg, dilation=deg,
         tensile_strength=Pa)} Mohr-Coulomb zones (needs ``deformable``).
@@ -75,6 +79,7 @@ class SolverOptions:
     kinetic_damping: int = 0
     edge_elements: bool = False
     rounding: float = 0.0
+    divide_interfaces: bool = False
     deformable: dict | None = None
     zone_strength: dict | None = None
 
@@ -106,6 +111,9 @@ class SolverOptions:
         if not (_whole(self.kinetic_damping) and self.kinetic_damping >= 0):
             raise ValueError(f"kinetic_damping must be a step interval >= 0 (0: off), got "
                              f"{self.kinetic_damping!r}")
+        if not isinstance(self.divide_interfaces, bool):
+            raise ValueError(f"divide_interfaces must be true or false, got "
+                             f"{self.divide_interfaces!r}")
         if self.search_margin is not None and not self.search_margin > 0:
             raise ValueError(f"search_margin must be > 0 m, got {self.search_margin!r}")
         return self

@@ -83,11 +83,11 @@ def scene(spacing=5.0, f_step=0.02, cross=None):
                  stages=stages, solver={"mass_scaling": True, "damping": 0.8})
 
 
-def sliding_wedges(model):
+def sliding_wedges(model, water=WATER):
     """(joint offset, wedge polygon, joint piece under it, weight N/m, water force on the
     joint N/m) of every wedge above one of the model's bedding joints that daylights and
     touches neither the model's sides nor its base (module docstring). The joints are read
-    from the model's bedding edges."""
+    from the model's bedding edges; ``water`` the water table (None: dry)."""
     bs = model.blocks
     bed = bs.material_names.index("joint:bedding")
     on = bs.edge_material == bed
@@ -113,7 +113,8 @@ def sliding_wedges(model):
             plane = plane[0]
             xy = np.array([plane.interpolate(v, normalized=True).coords[0]
                            for v in np.linspace(0.0, 1.0, 401)])
-            u = np.trapz(WATER.pressure(xy[:, 0], xy[:, 1]), dx=plane.length / 400)
+            u = 0.0 if water is None else \
+                np.trapz(water.pressure(xy[:, 0], xy[:, 1]), dx=plane.length / 400)
             yield float(d), wedge, plane, DENSITY * 9.81 * wedge.area, u
 
 

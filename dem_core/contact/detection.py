@@ -34,7 +34,7 @@ from numba import njit
 from .contacts import ANCHOR_A, INTACT, UNBONDED, Contacts
 from ..step.kinematics import body_point, contact_normal, unrotate
 from .boundary_points import deformed_points
-from .rounding import is_rounded, no_rounding, rounded_contact
+from .rounding import corner_centre, follow_faces, is_rounded, no_rounding, rounded_contact
 from .broad import boxes, grid_pairs, world_vertices
 from .narrow import SUPPORT_SLOPE, _supports, narrow_phase
 
@@ -52,7 +52,8 @@ def _displacements(c, s, rows, rnd, zones):
         a, b = c.block_a[k], c.block_b[k]
         xb, yb = body_point(s.pos, s.rot, b, c.point_b[k, 0], c.point_b[k, 1])
         if is_rounded(rnd, c, k):
-            xa, ya, nx, ny, gap = rounded_contact(rnd, s, a, b, c.vertex_a[k], c.edge_b[k])
+            _, _, nx, ny, gap = rounded_contact(rnd, s, a, b, c.vertex_a[k], c.edge_b[k])
+            xa, ya = corner_centre(rnd, s, a, c.vertex_a[k])
             un[i] = gap
         else:
             if zones is None:                # rigid blocks (numba drops the branch below)
@@ -86,8 +87,9 @@ def _rounded_points(c, s, rows, rnd):
         if not is_rounded(rnd, c, k):
             continue
         b = c.block_b[k]
-        xc, yc, nx, ny, u_n = rounded_contact(rnd, s, c.block_a[k], b, c.vertex_a[k],
-                                              c.edge_b[k])
+        _, _, nx, ny, u_n = rounded_contact(rnd, s, c.block_a[k], b, c.vertex_a[k],
+                                            c.edge_b[k])
+        xc, yc = corner_centre(rnd, s, c.block_a[k], c.vertex_a[k])
         reach = u_n + 2.0 * rnd.radius
         c.point_b[k, 0], c.point_b[k, 1] = unrotate(s.rot, b, xc + reach * nx - s.pos[b, 0],
                                                     yc + reach * ny - s.pos[b, 1])
@@ -159,8 +161,12 @@ def compact(c: Contacts, rows) -> Contacts:
     return c.take(rows)
 
 
-def _new_rows(p, s, cand, wv):
-    """Local geometry and length of new (unbonded) contacts from candidates."""
+def _new_rows(p, s, cand, wv, margin, cut):
+    """Local geometry and length of new (unbonded) contacts from candidates: the length is
+    half of A's two edges at the vertex, each projected on B's edge and, with ``cut``, cut to
+    B's edge (what of them lies across from B's face), no less than the smaller of the search
+    margin and a twentieth of the two edges (a corner meeting a corner stands for a point);
+    without ``cut``, projected only and no less than a twentieth of the edges."""
     off, local = p.vertex_offsets, p.local_vertices
     A, v, B, e = cand[:, 0], cand[:, 1], cand[:, 2], cand[:, 3]
     f = np.where(e + 1 < off[B + 1], e + 1, off[B])
@@ -174,28 +180,40 @@ def _new_rows(p, s, cand, wv):
     vb = np.column_stack([cos_b * rel[:, 0] + sin_b * rel[:, 1],
                           -sin_b * rel[:, 0] + cos_b * rel[:, 1]])
     point_b = local[e] + ((vb - local[e]) * t).sum(axis=1)[:, None] * t   # projection
-    # length: half of A's two edges at the vertex, projected on B's edge
+    # length: half of A's two edges at the vertex, projected on B's edge and cut to it
     prev = np.where(v - 1 >= off[A], v - 1, off[A + 1] - 1)
     nxt = np.where(v + 1 < off[A + 1], v + 1, off[A])
     ta = np.column_stack([cos_b * t[:, 0] - sin_b * t[:, 1],
                           sin_b * t[:, 0] + cos_b * t[:, 1]])  # world
     e1, e2 = wv[nxt] - wv[v], wv[prev] - wv[v]
     l1, l2 = np.hypot(*e1.T), np.hypot(*e2.T)
-    L = 0.5 * (np.abs((e1 * ta).sum(axis=1)) + np.abs((e2 * ta).sum(axis=1)))
-    L = np.minimum(np.maximum(L, 0.05 * (l1 + l2)), ln)
+    at = ((vb - local[e]) * t).sum(axis=1)          # the vertex along B's edge, 0..ln
+    L = np.zeros(len(cand))
+    for edge in (e1, e2):
+        along = (edge * ta).sum(axis=1)
+        lo, hi = np.minimum(at, at + along), np.maximum(at, at + along)
+        L += 0.5 * np.maximum(0.0, np.minimum(hi, ln) - np.maximum(lo, 0.0))
+    L = np.minimum(np.maximum(L, np.minimum(0.05 * (l1 + l2), margin)), ln)
+    if not cut:                # the lengths as made before the division (projected, not cut)
+        L = 0.5 * (np.abs((e1 * ta).sum(axis=1)) + np.abs((e2 * ta).sum(axis=1)))
+        L = np.minimum(np.maximum(L, 0.05 * (l1 + l2)), ln)
     return point_b, normal_b, L
 
 
-def update_contacts(c: Contacts, s, p, table, new_material: int, margin: float, rnd=None):
+def update_contacts(c: Contacts, s, p, table, new_material: int, margin: float, rnd=None,
+                    cut=False):
     """Survivors (with history) then new unbonded contacts (the last ``n_new`` rows, stiffness
     and stress still to be set); returns (Contacts, n_new).
 
     ``c`` Contacts, ``s`` BlockState, ``p`` BlockProps, ``table`` the MaterialTable,
     ``new_material`` the material id of a contact with a face that was free at the start,
     ``margin`` the search distance (m), ``rnd`` the corners' Rounding (None: sharp; with it
-    gaps, normals and the new contacts' points are those of the rounded corners).
+    gaps, normals and the new contacts' points are those of the rounded corners), ``cut``:
+    new contacts' lengths cut to the face they touch (``_new_rows``; with the division).
     """
     rnd = no_rounding() if rnd is None else rnd
+    if rnd.radius > 0.0:
+        follow_faces(c, s, rnd)
     wv = world_vertices(s.pos, s.rot, p.vertex_offsets, p.local_vertices)
     lo, hi = boxes(wv, p.vertex_offsets, p.active, margin)
     cell = 2.0 * float(np.median(p.radius[p.active > 0])) + 2 * margin if p.active.any() else 1.0
@@ -212,7 +230,8 @@ def update_contacts(c: Contacts, s, p, table, new_material: int, margin: float, 
     if new.capacity < new.n + m:
         new = new.with_capacity(int(1.5 * (new.n + m)) + 64)
     if m:
-        _append(new, cand, s, p, wv, _touched_material(p, table, new_material, cand), rnd)
+        _append(new, cand, s, p, wv, _touched_material(p, table, new_material, cand), rnd,
+                margin, cut)
     return new, m
 
 
@@ -246,11 +265,11 @@ def _new_candidates(c, s, p, wv, cand, kept, survivor_points, margin, rnd):
     return cand[acc], kept
 
 
-def _append(new, cand, s, p, wv, material, rnd):
+def _append(new, cand, s, p, wv, material, rnd, margin, cut):
     """Write the candidates ``cand`` (A, vertex, B, edge) as new unbonded, unstressed contacts
     of ``material`` after the live rows of ``new`` (which has the capacity)."""
     m = cand.shape[0]
-    point_b, normal_b, L = _new_rows(p, s, cand, wv)
+    point_b, normal_b, L = _new_rows(p, s, cand, wv, margin, cut)
     r = slice(new.n, new.n + m)
     new.block_a[r], new.block_b[r] = cand[:, 0], cand[:, 2]
     new.vertex_a[r], new.edge_b[r] = cand[:, 1], cand[:, 3]

@@ -39,7 +39,7 @@ from .boundary_points import deformed_points, rest_points
 from .contacts import ANCHOR_A, ANCHOR_B
 from ..step.kinematics import body_point, contact_normal, unrotate
 from .law import coulomb_law
-from .rounding import is_rounded, rounded_contact
+from .rounding import corner_centre, is_rounded, rounded_contact
 from ..step.state import no_parallel
 
 __all__ = ["add_contact_forces", "chunk_forces", "contact_update", "log_crack",
@@ -114,7 +114,8 @@ def contact_update(k, c, strength, s, rnd, zones):
     xb, yb = body_point(s.pos, s.rot, b, c.point_b[k, 0], c.point_b[k, 1])
     rounded = is_rounded(rnd, c, k)
     if rounded:                            # xa: A's corner centre (rounding.py)
-        xa, ya, nx, ny, u_n = rounded_contact(rnd, s, a, b, c.vertex_a[k], c.edge_b[k])
+        xf, yf, nx, ny, u_n = rounded_contact(rnd, s, a, b, c.vertex_a[k], c.edge_b[k])
+        xa, ya = corner_centre(rnd, s, a, c.vertex_a[k])
         reach = u_n + 2.0 * rnd.radius     # B's point sits this far across the normal
     else:
         xa, ya, xb, yb = contact_points(k, c, s, zones, xb, yb)
@@ -141,9 +142,8 @@ def contact_update(k, c, strength, s, rnd, zones):
     anchor = c.anchor[k]
     px = xa if anchor == ANCHOR_A else (xb if anchor == ANCHOR_B else 0.5 * (xa + xb))
     py = ya if anchor == ANCHOR_A else (yb if anchor == ANCHOR_B else 0.5 * (ya + yb))
-    if rounded:                            # on A's arc
-        px += rnd.radius * nx
-        py += rnd.radius * ny
+    if rounded:                            # on A's arc, or at B's corner on A's face
+        px, py = xf + rnd.radius * nx, yf + rnd.radius * ny
     L = c.length[k]
     return L * (s_n * nx - t_s * ny), L * (s_n * ny + t_s * nx), px, py, event
 

@@ -58,7 +58,7 @@ from numba import njit
 from ..step.kinematics import body_point, rotate, unrotate
 
 __all__ = ["Rounding", "no_rounding", "rounding_bundle", "corner_centres", "largest_rounding",
-           "is_rounded", "rounded_contact", "MAX_ROUNDING_FRACTION"]
+           "is_rounded", "rounded_contact", "corner_centre", "follow_faces", "MAX_ROUNDING_FRACTION"]
 
 # a rounding radius must leave every edge at least this fraction of the straight part the
 # sharpest rounding it can take would leave (``largest_rounding``): no edge vanishes
@@ -222,6 +222,15 @@ def _corner_on_face_of_a(rnd, s, a, b, va, corner, xc, yc, nx, ny, dist):
 
 
 @njit(cache=True, inline="always")
+def corner_centre(rnd, s, a, va):
+    """World position (m) of the centre of A's corner at vertex ``va``: the point of A the
+    shear displacement of a rounded contact is measured from (fixed in A; where B's corner
+    touches A's face, ``rounded_contact``'s nearest point slides with B and would measure no
+    slip at all)."""
+    return body_point(s.pos, s.rot, a, rnd.centre[va, 0], rnd.centre[va, 1])
+
+
+@njit(cache=True, inline="always")
 def rounded_contact(rnd, s, a, b, va, e):
     """A's rounded corner at vertex ``va`` against B's rounded boundary at its face ``e``
     (first vertex index), at the pose ``s`` (BlockState); returns (x_c, y_c, n_x, n_y, u_n):
@@ -249,3 +258,46 @@ def rounded_contact(rnd, s, a, b, va, e):
         xc, yc, nx, ny, dist = _corner_on_face_of_a(rnd, s, a, b, va, corner, xc, yc, nx, ny,
                                                     dist)
     return xc, yc, nx, ny, dist - 2.0 * rnd.radius
+
+
+@njit(cache=True)
+def follow_faces(c, s, rnd):
+    """At a contact search: every rounded contact whose corner has slid past the end of its
+    face of B and out of that corner's wedge (where ``rounded_contact`` already takes the next
+    face's normal and distance) is moved onto that next face (``edge_b``, ``normal_b``; its
+    stresses and history kept), as often as it has passed faces. The search's tests (the
+    point still on its face, ``detection``) then judge the face the contact really touches,
+    and a corner that has slid off a block altogether is let go."""
+    for k in range(c.count[0]):
+        if not is_rounded(rnd, c, k):
+            continue
+        a, b = c.block_a[k], c.block_b[k]
+        xc, yc = body_point(s.pos, s.rot, a, rnd.centre[c.vertex_a[k], 0],
+                            rnd.centre[c.vertex_a[k], 1])
+        x, y = unrotate(s.rot, b, xc - s.pos[b, 0], yc - s.pos[b, 1])     # in B's frame
+        e = c.edge_b[k]
+        for _ in range(rnd.next.shape[0]):
+            f = rnd.next[e]
+            ex, ey = rnd.centre[e, 0], rnd.centre[e, 1]
+            tx, ty = rnd.centre[f, 0] - ex, rnd.centre[f, 1] - ey
+            along = (x - ex) * tx + (y - ey) * ty
+            if along > tx * tx + ty * ty:                  # past the face's end
+                g = rnd.next[f]
+                ux, uy = rnd.centre[g, 0] - rnd.centre[f, 0], rnd.centre[g, 1] - rnd.centre[f, 1]
+                if (x - rnd.centre[f, 0]) * ux + (y - rnd.centre[f, 1]) * uy <= 0.0:
+                    break                                  # in the corner's wedge
+                e = f
+            elif along < 0.0:                              # before the face's start
+                g = rnd.prev[e]
+                ux, uy = rnd.centre[g, 0] - ex, rnd.centre[g, 1] - ey
+                if (x - ex) * ux + (y - ey) * uy <= 0.0:
+                    break
+                e = g
+            else:
+                break
+        if e != c.edge_b[k]:
+            f = rnd.next[e]
+            tx, ty = rnd.centre[f, 0] - rnd.centre[e, 0], rnd.centre[f, 1] - rnd.centre[e, 1]
+            ln = math.hypot(tx, ty)
+            c.edge_b[k] = e
+            c.normal_b[k, 0], c.normal_b[k, 1] = -ty / ln, tx / ln      # B's inward normal

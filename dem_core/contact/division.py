@@ -1,0 +1,273 @@
+"""Contact lengths from the current geometry: each interface divided among its contacts.
+
+Two convex blocks touch along one straight stretch (their overlap) or at a point. The contacts
+of a block pair whose normals lie within 25 deg of the first one's are on that stretch's line.
+Sorted along its tangent t by their stations s (the point each contact's force acts at,
+``forces._force_point``; with rounded corners the touch of the arc), they divide the stretch
+[lo, hi] as UDEC's domains do, each taking half the distance to its neighbours::
+
+    L_1 = (s_1 + s_2) / 2 - lo,   L_i = (s_{i+1} - s_{i-1}) / 2,   L_m = hi - (s_{m-1} + s_m) / 2
+
+so the lengths sum to hi - lo whatever the blocks have slid. The stretch is the stations' own,
+s_1 to s_m, carried on to where the two blocks' faces along the line stop overlapping (their
+straight parts, with rounded corners), by at most the search margin: an end of the overlap
+farther out would have a contact of its own (a vertex on a face), unless the faces are open
+there. A stretch is no shorter than the search margin (faces meeting end to end, or a corner
+found within the margin before the faces overlap). Contacts at one station (within 1e-6 of the
+stretch: the two halves of split edges of deformable blocks) share its length equally. A
+lone contact whose faces are not along one line (a corner on a face, a corner meeting a
+corner) keeps the length it was made with (``detection._new_rows``).
+
+When: at every contact search (``update.search_contacts``), for each pair that holds a contact
+made by the search (``UNBONDED``: a vertex has passed onto a face), and each pair still holding
+only the shared edge it was built with once its lengths and its stretch differ by more than
+0.1 % (its blocks have slid along it). A pair that still holds an intact bond is never divided:
+the bond's length is its area of intact rock, and its blocks cannot slide past each other while
+it holds (a stretch measured between their points would follow the bond's elastic shear, which
+in a lab specimen of millimetre blocks is several per cent of an edge). The shared edges of blocks that have not slid keep their
+halves (the overlap up to the elastic displacement), so the model's stored answers stay bit
+for bit where nothing has slid. Between searches no block moves more than half the search
+margin, so a contact in compression stands for its stretch to within the margin at each end.
+
+What a contact keeps: its stresses (sn, ts, the elastic normal stress), plastic slip, crack
+state and material stay with its point; only the length it stands for changes, so forces
+(length x stress) and stiffness (length x k) follow the new length. Stress is what the law and
+the strength work on (a contact's history is of its point of the interface), and it is the one
+quantity that does not depend on how the stretch is cut into contacts. The two halves of an
+edge element (``Contacts.partner``) stay one element only while they are the pair's only two
+contacts on the line; otherwise they become point contacts.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .contacts import ANCHOR_A, ANCHOR_B, INTACT, UNBONDED
+from ..step.kinematics import body_point, contact_normal
+from .rounding import is_rounded, no_rounding, rounded_contact
+
+__all__ = ["divide_interfaces", "interface_stations"]
+
+# contacts on one line: normals within 25 deg (as the search's merge rule, ``detection._accept``)
+PARALLEL = 0.9
+# stations closer than this fraction of the stretch are one station
+SAME_STATION = 1e-6
+# a pair still holding only the shared edge it was built with is divided anew once its
+# lengths and its stretch differ by more than this fraction (its blocks have slid)
+DRIFT = 1e-3
+# a face lies along the interface's line when it is within about 11 deg of it (the cos)
+ALONG = 0.98
+
+
+@njit(cache=True)
+def _stations(c, s, rnd, pts, nrm):
+    """World station (the force's point, m) and unit normal of every live contact."""
+    for k in range(c.count[0]):
+        a, b = c.block_a[k], c.block_b[k]
+        if is_rounded(rnd, c, k):
+            xc, yc, nx, ny, _ = rounded_contact(rnd, s, a, b, c.vertex_a[k], c.edge_b[k])
+            pts[k, 0], pts[k, 1] = xc + rnd.radius * nx, yc + rnd.radius * ny
+        else:
+            nx, ny = contact_normal(s, a, b, c.face[k], c.normal_b[k, 0], c.normal_b[k, 1])
+            xa, ya = body_point(s.pos, s.rot, a, c.point_a[k, 0], c.point_a[k, 1])
+            xb, yb = body_point(s.pos, s.rot, b, c.point_b[k, 0], c.point_b[k, 1])
+            anchor = c.anchor[k]
+            if anchor == ANCHOR_A:
+                pts[k, 0], pts[k, 1] = xa, ya
+            elif anchor == ANCHOR_B:
+                pts[k, 0], pts[k, 1] = xb, yb
+            else:
+                pts[k, 0], pts[k, 1] = 0.5 * (xa + xb), 0.5 * (ya + yb)
+        nrm[k, 0], nrm[k, 1] = nx, ny
+
+
+def interface_stations(c, s, rnd=None):
+    """((n, 2) stations, (n, 2) normals) of the live contacts at the pose ``s`` (module
+    docstring)."""
+    n = c.n
+    pts, nrm = np.empty((n, 2)), np.empty((n, 2))
+    _stations(c, s, no_rounding() if rnd is None else rnd, pts, nrm)
+    return pts, nrm
+
+
+@njit(cache=True, inline="always")
+def _corner(p, s, rnd, blk, j):
+    """World point (m) of the end of a face at vertex j of block ``blk``: the vertex, or with
+    rounded corners the corner's centre (the straight part of a rounded face ends across from
+    it)."""
+    if rnd.radius > 0.0:
+        return body_point(s.pos, s.rot, blk, rnd.centre[j, 0], rnd.centre[j, 1])
+    return body_point(s.pos, s.rot, blk, p.local_vertices[j, 0], p.local_vertices[j, 1])
+
+
+@njit(cache=True, inline="always")
+def _next(p, blk, j):
+    return j + 1 if j + 1 < p.vertex_offsets[blk + 1] else p.vertex_offsets[blk]
+
+
+@njit(cache=True, inline="always")
+def _prev(p, blk, j):
+    return j - 1 if j > p.vertex_offsets[blk] else p.vertex_offsets[blk + 1] - 1
+
+
+@njit(cache=True)
+def _face_span(p, s, rnd, blk, j, tx, ty, x0, y0, ext, side):
+    """Widen ``ext[side]`` (lo, hi: stations along (tx, ty) from (x0, y0)) by the face of
+    ``blk`` from vertex j to the next, if that face lies along the line (within ``ALONG``)."""
+    xa, ya = _corner(p, s, rnd, blk, j)
+    xb, yb = _corner(p, s, rnd, blk, _next(p, blk, j))
+    dx, dy = xb - xa, yb - ya
+    ln = math.hypot(dx, dy)
+    if ln == 0.0 or abs(dx * tx + dy * ty) < ALONG * ln:
+        return
+    sa = (xa - x0) * tx + (ya - y0) * ty
+    sb = (xb - x0) * tx + (yb - y0) * ty
+    ext[side, 0] = min(ext[side, 0], sa, sb)
+    ext[side, 1] = max(ext[side, 1], sa, sb)
+
+
+@njit(cache=True)
+def _overlap(c, p, s, rnd, on, tx, ty, x0, y0):
+    """(lo, hi) stations of the stretch where the two blocks' faces along the line overlap,
+    from the faces the contacts ``on`` name (B's face, and A's faces at its vertex that lie
+    along the line); (inf, -inf) when either block's face along the line is not known."""
+    lo_block = min(c.block_a[on[0]], c.block_b[on[0]])
+    ext = np.empty((2, 2))
+    ext[:, 0] = math.inf
+    ext[:, 1] = -math.inf
+    for k in on:
+        a, b = c.block_a[k], c.block_b[k]
+        e = c.edge_b[k]
+        if e >= 0:                        # B's face, or at its corner the face beyond
+            side = 0 if b == lo_block else 1
+            _face_span(p, s, rnd, b, e, tx, ty, x0, y0, ext, side)
+            _face_span(p, s, rnd, b, _prev(p, b, e), tx, ty, x0, y0, ext, side)
+            _face_span(p, s, rnd, b, _next(p, b, e), tx, ty, x0, y0, ext, side)
+        va = c.vertex_a[k]
+        if va >= 0:
+            side = 0 if a == lo_block else 1
+            _face_span(p, s, rnd, a, va, tx, ty, x0, y0, ext, side)
+            _face_span(p, s, rnd, a, _prev(p, a, va), tx, ty, x0, y0, ext, side)
+    return max(ext[0, 0], ext[1, 0]), min(ext[0, 1], ext[1, 1])
+
+
+@njit(cache=True)
+def _divide_group(rows, c, p, s, rnd, pts, nrm, margin, made):
+    """Divide one block pair's contacts ``rows`` (module docstring); ``made``: the pair holds
+    a contact made by the search. Returns whether a length changed."""
+    k0 = rows[0]
+    tx, ty = -nrm[k0, 1], nrm[k0, 0]
+    member = np.zeros(rows.shape[0], np.bool_)
+    for i in range(rows.shape[0]):
+        k = rows[i]
+        member[i] = abs(nrm[k, 0] * nrm[k0, 0] + nrm[k, 1] * nrm[k0, 1]) >= PARALLEL
+    on = rows[member]
+    m = on.shape[0]
+    if m < 2 and not made:
+        return False
+    x0, y0 = pts[k0, 0], pts[k0, 1]
+    st = np.empty(m)
+    for i in range(m):
+        st[i] = (pts[on[i], 0] - x0) * tx + (pts[on[i], 1] - y0) * ty
+    order = np.argsort(st, kind="mergesort")
+    on, st = on[order], st[order]
+    # the stretch: the stations', extended to where the faces stop overlapping, by at most
+    # the search margin (farther out the search would have made a contact of its own, unless
+    # the faces are open there); no shorter than the margin
+    lo, hi = st[0], st[m - 1]
+    face_lo, face_hi = _overlap(c, p, s, rnd, on, tx, ty, x0, y0)
+    known = face_hi - face_lo > -math.inf
+    if m == 1 or hi - lo <= SAME_STATION * margin:
+        # one station: a corner on a face keeps the length it was made with (half of its
+        # edges: UDEC's domain), cut to the faces' overlap (no shorter than the margin)
+        if not known:
+            return False
+        cut = max(face_hi - face_lo, margin)
+        changed = False
+        for k in on:
+            if c.length[k] > cut:
+                c.length[k] = cut
+                changed = True
+        return changed
+    if known:
+        lo = max(face_lo, lo - margin)
+        hi = min(face_hi, hi + margin)
+    if hi - lo < margin:
+        mid = 0.5 * (lo + hi)
+        lo, hi = mid - 0.5 * margin, mid + 0.5 * margin
+    if not hi - lo > 0.0:
+        return False
+    if not made:                          # the shared edge it was built with, if not slid
+        old = 0.0
+        for k in on:
+            old += c.length[k]
+        if abs(old - (hi - lo)) <= DRIFT * (hi - lo):
+            return False
+    tie = SAME_STATION * (hi - lo)
+    # stations: runs of (nearly) equal s; first[j] the first sorted contact of station j
+    first = np.empty(m + 1, np.int64)
+    ns = 0
+    for i in range(m):
+        if i == 0 or st[i] - st[first[ns - 1]] > tie:
+            first[ns] = i
+            ns += 1
+    first[ns] = m
+    changed = False
+    for j in range(ns):
+        left = max(lo, 0.5 * (st[first[j - 1]] + st[first[j]])) if j > 0 else lo
+        right = min(hi, 0.5 * (st[first[j]] + st[first[j + 1]])) if j < ns - 1 else hi
+        share = max(0.0, right - left) / (first[j + 1] - first[j])
+        for i in range(first[j], first[j + 1]):
+            k = on[i]
+            if c.length[k] != share:
+                c.length[k] = share
+                changed = True
+    # an edge element is its two halves spanning the line; anything else: point contacts
+    for i in range(m):
+        k = on[i]
+        q = c.partner[k]
+        if q >= 0 and not (m == 2 and (q == on[0] or q == on[1])):
+            c.partner[q] = -1
+            c.partner[k] = -1
+    return changed
+
+
+@njit(cache=True)
+def _divide(order, keys, c, p, s, rnd, pts, nrm, margin, bond):
+    changed = False
+    g0 = 0
+    n = order.shape[0]
+    while g0 < n:
+        g1 = g0 + 1
+        while g1 < n and keys[order[g1]] == keys[order[g0]]:
+            g1 += 1
+        made, held = False, False
+        for i in range(g0, g1):
+            k = order[i]
+            made = made or c.broken[k] == UNBONDED
+            held = held or (c.broken[k] == INTACT and bond[c.material[k]])
+        if not held and (made or g1 - g0 >= 2) and \
+                _divide_group(order[g0:g1], c, p, s, rnd, pts, nrm, margin, made):
+            changed = True
+        g0 = g1
+    return changed
+
+
+def divide_interfaces(c, s, p, bonded, rnd=None, margin=0.0) -> bool:
+    """Set the lengths of the contacts ``c`` (Contacts, in place) of every block pair whose
+    contact set has changed since it was built, from the pose ``s`` (BlockState) of the blocks
+    ``p`` (BlockProps) (module docstring); ``bonded`` (nm,) bool, the materials whose intact
+    contacts are bonds (``MaterialTable.bonded``); ``margin`` the search margin (m). Returns
+    whether a length changed (the time step must follow)."""
+    n = c.n
+    if n == 0:
+        return False
+    rnd = no_rounding() if rnd is None else rnd
+    pts, nrm = interface_stations(c, s, rnd)
+    a, b = c.block_a[:n].astype(np.int64), c.block_b[:n].astype(np.int64)
+    keys = np.minimum(a, b) * p.mass.shape[0] + np.maximum(a, b)
+    order = np.argsort(keys, kind="stable")
+    return bool(_divide(order, keys, c, p, s, rnd, pts, nrm, float(margin),
+                        np.asarray(bonded, np.bool_)))
