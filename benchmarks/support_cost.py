@@ -35,8 +35,9 @@ kernels' time, looped) / (the plain step).
 Reported: time per step and its ratio to the plain model, the automatic time step of each
 (grout and bond springs add to their blocks' frequency bound), hence also the cost per second
 of model time, and the support's node, segment and bond counts. A profile of the cable kernel's
-parts (``components/cables.py``: the segments' axial forces, the grout on the blocks, moving
-the nodes), each looped inside numba on a copy of the model, says where the extra time goes.
+parts (``components/cables.py``: the segments' axial forces, the grout on the blocks; and
+``step/nodes.py``: moving the nodes), each looped inside numba on a copy of the model, says
+where the extra time goes.
 Writes results/benchmarks/support_cost.json and .png (``--reference``: benchmarks/results/).
 """
 from __future__ import annotations
@@ -207,39 +208,37 @@ def _loop_axial(cb, n):
     for _ in range(n):
         cb.node_force[:] = 0.0
         cb.node_tangent[:] = 0.0
-        _axial(cb)
+        _axial(cb, 0.0)
 
 
 @njit
 def _loop_grout(cb, s, p, n):
     for _ in range(n):
-        _grout(cb, s, p)
+        _grout(cb, s, p, 0.0)
 
 
 @njit
-def _loop_move(cb, n):
+def _loop_move(cb, alpha, n):
     for _ in range(n):
-        move_nodes(cb.node_pos, cb.node_vel, cb.node_force, cb.node_inv_mass, 0.0,
-                   cb.control[1])
+        move_nodes(cb.node_pos, cb.node_vel, cb.node_force, cb.node_inv_mass, 0.0, 0.0, alpha)
 
 
 @njit
-def _loop_liner(ln, s, p, n):
+def _loop_liner(ln, s, p, gravity, n):
     for _ in range(n):
-        add_liners(ln, s, p)
+        add_liners(ln, s, p, 0.0, gravity)
 
 
 def kernel_profile(m, snap, n=2000):
-    """Seconds per call of the cable kernel's parts (and the whole liner kernel), each looped
-    ``n`` times inside numba on the variant's snapshot (the model is restored afterwards;
-    dt = 0 in the node move so the nodes stay put)."""
-    from dem_core.components import support
+    """Seconds per call of the cable kernel's parts and the node move (and the whole liner
+    force kernel), each looped ``n`` times inside numba on the variant's snapshot (the model is
+    restored afterwards; dt = 0 in the node move so the nodes stay put)."""
+    from dem_core.components import gravity_bundle
 
     parts = {}
 
     def timed(name, fn):
         m.restore(snap)
-        support.set_controls(m.cables, m.liners, m.dt, m.damping, m.time, m.gravity)
         fn(1)                                       # compile
         best = math.inf
         for _ in range(3):
@@ -255,10 +254,11 @@ def kernel_profile(m, snap, n=2000):
         timed("cables: segments' axial forces (_axial)", lambda k: _loop_axial(m.cables, k))
         timed("cables: grout on the blocks (_grout)",
               lambda k: (_loop_axial(m.cables, 1), _loop_grout(m.cables, m.state, m.props, k)))
-        timed("cables: moving the nodes (move_nodes)", lambda k: _loop_move(m.cables, k))
+        timed("cables: moving the nodes (move_nodes)",
+              lambda k: _loop_move(m.cables, m.damping, k))
     if m.liners.node_pos.shape[0]:
         timed("liner: whole kernel (add_liners)",
-              lambda k: _loop_liner(m.liners, m.state, m.props, k))
+              lambda k: _loop_liner(m.liners, m.state, m.props, gravity_bundle(m.gravity), k))
     m.restore(snap)
     return parts
 

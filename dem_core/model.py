@@ -342,9 +342,6 @@ class Model:
 
     # ----------------------------------------------------------------- running
     def _run(self, n):
-        support.set_controls(self.cables, self.liners, self.dt, self.damping, self.time,
-                             self.gravity)
-        self.zone_state.control[:] = (self.dt, self.damping, *self.gravity)
         world, parts = self.world(), self.parts()
         par = self.threads_bundle(parts)
         if par.offsets.shape[0] == 0:

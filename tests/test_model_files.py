@@ -1,13 +1,15 @@
 """Model files carry a format version (``dem_core.output.io.FORMAT``): a file of today's format
 resumes bit for bit, a file of format 1 (written before the version, with the options as
-attributes) is converted and resumes bit for bit too, and a file of an unknown format is
-refused with a message naming the file and its version."""
+attributes) or 2 (with the support and zone bundles' own ``control`` clocks) is converted and
+resumes bit for bit too, and a file of an unknown format is refused with a message naming the
+file and its version."""
 import json
 import zipfile
 
 import numpy as np
 import pytest
 
+from dem_core.components.support import Cable
 from dem_core.contact.materials import Material
 from dem_core.geometry.simple_blocks import brick_grid
 from dem_core.model import Model
@@ -26,10 +28,21 @@ def column():
     return m
 
 
-def rewrite_meta(path, change):
-    """The file at ``path`` with its JSON meta changed by ``change(meta) -> meta``."""
+def bolted_column():
+    """``column`` with a grouted bolt through its three blocks, run on."""
+    m = column()
+    m.install(Cable((0.05, 0.02), (0.05, 0.28), area=1e-5, E=2e11, yield_tension=1e5,
+                    grout_stiffness=1e9, grout_strength=1e6, segment_length=0.05))
+    m.cycle(200)
+    return m
+
+
+def rewrite_meta(path, change, arrays=None):
+    """The file at ``path`` with its JSON meta changed by ``change(meta) -> meta`` (and the
+    ``arrays`` {name: array} added)."""
     with np.load(path) as z:
         d = {k: z[k] for k in z.files}
+    d.update(arrays or {})
     meta = change(json.loads(bytes(d["meta"]).decode()))
     d["meta"] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
     with open(path, "wb") as fh:
@@ -45,6 +58,14 @@ def as_format_1(meta):
     meta.pop("format")
     meta["settings"] = opts
     return meta
+
+
+def old_controls(m):
+    """The ``control`` arrays formats 1 and 2 kept in the cables', liners' and zones' bundles:
+    dt, damping, time (the support's clock) and gravity, copied from the model."""
+    return {"cables.control": np.array([m.dt, m.damping, m.time]),
+            "liners.control": np.array([m.dt, m.damping, m.time, *m.gravity]),
+            "zone_state.control": np.array([m.dt, m.damping, *m.gravity])}
 
 
 def same_run(a, b, steps=400):
@@ -71,11 +92,25 @@ def test_a_saved_model_carries_the_format_and_resumes_bit_for_bit(tmp_path):
 def test_a_format_1_file_is_converted_and_resumes_bit_for_bit(tmp_path):
     m = column()
     m.save(tmp_path / "old.npz")
-    rewrite_meta(tmp_path / "old.npz", as_format_1)
+    rewrite_meta(tmp_path / "old.npz", as_format_1, old_controls(m))
     back = Model.load(tmp_path / "old.npz")
     assert back.damping == 0.7 and back.kinetic_damping == 50 and back.fixed_dt is None
     assert back.history.every == m.history.every
     assert same_run(m, back)
+
+
+def test_a_format_2_file_is_converted_and_resumes_bit_for_bit_with_support(tmp_path):
+    """Format 2 kept the support's and the zones' clocks (``control``); format 3 leaves them
+    in the file: the step gives every node its dt, damping, time and gravity."""
+    m = bolted_column()
+    m.save(tmp_path / "old.npz")
+    rewrite_meta(tmp_path / "old.npz", lambda meta: dict(meta, format=2), old_controls(m))
+    back = Model.load(tmp_path / "old.npz")
+    assert "control" not in back.cables._fields + back.liners._fields + back.zone_state._fields
+    assert back.cables.node_pos.shape[0] > 2
+    assert same_run(m, back)
+    assert np.array_equal(m.cables.node_pos, back.cables.node_pos)
+    assert np.array_equal(m.cables.seg_force, back.cables.seg_force)
 
 
 def test_a_file_of_an_unknown_format_is_refused_naming_it(tmp_path):

@@ -6,8 +6,10 @@ that adds into ``state.force`` (or, for the servo, sets prescribed velocities fr
 A component a scene does not use is its empty bundle (zero rows): its kernel loops over
 nothing, so an unused component costs nothing measurable (``benchmarks/leave_out.py``).
 Components that add stiffness (cables, liners) add their springs to the blocks' frequency
-bound for the automatic time step (``support.support_stiffness``); their own nodes move in
-their kernel, with inertial masses that keep them inside that step (``support.set_node_masses``).
+bound for the automatic time step (``support.support_stiffness``); their kernels compute forces
+only (on the blocks and on their own nodes), and the nodes are advanced by the step's one
+integration (``step.integration.advance_nodes``), with inertial masses that keep them inside
+that step (``support.set_node_masses``).
 
 | component | bundle | kernel |
 |---|---|---|

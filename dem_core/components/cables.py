@@ -29,10 +29,13 @@ docs/history.md).
 The grout pulls the node by -(F_axial t + F_across n) and the host block by the opposite, at
 the host point (so momentum is conserved). A node whose host was excavated is free.
 
-Nodes are integrated here, in the step, with the blocks' dt and local damping: their inertial
-mass is chosen when the time step is (``support.set_node_masses``) so that a node is no stiffer
-than the stiffest block and the automatic step stays stable; the weight of a cable is left
-out (a few kg per metre against the rock it holds).
+This kernel computes forces only (``add_cables``: the segments' axial forces and the grout's,
+into ``node_force`` and onto the host blocks). The nodes are advanced by the step's one
+integration (``step.integration.advance_nodes``, ``step.nodes.advance_support``), right after
+the blocks and with their dt, local damping, kick and kinetic-damping stop: their inertial mass
+is chosen when the time step is (``support.set_node_masses``) so that a node is no stiffer than
+the stiffest block and the automatic step stays stable; the weight of a cable is left out (a
+few kg per metre against the rock it holds).
 
 Events (first grout slip of a node, first yield and rupture of a segment) go to ``log_rows``
 like cracks: [time s, x m, y m, kind (``GROUT_SLIP``, ``YIELD``, ``RUPTURE``), cable, node or
@@ -47,7 +50,6 @@ import numpy as np
 from numba import njit
 
 from ..step.kinematics import body_point
-from ..step.nodes import move_nodes
 
 __all__ = ["Cables", "add_cables", "no_cables", "GROUT_SLIP", "YIELD", "RUPTURE", "LINER_BOND",
            "log_event"]
@@ -59,7 +61,6 @@ GROUT_SLIP, YIELD, RUPTURE, LINER_BOND = 11, 12, 13, 14
 class Cables(NamedTuple):
     """Every cable of a model (``N`` nodes, ``S`` segments; both 0: no cables).
 
-    control : (3,) float64. dt (s), local damping alpha, time (s) of the component's clock.
     node_pos, node_vel : (N, 2) float64, m and m/s. node_force : (N, 2) N/m (scratch).
     node_pos0 : (N, 2) m, where each node was installed.
     node_tangent : (N, 2) scratch. node_axis : (N, 2) the axis at installation (unit).
@@ -78,7 +79,6 @@ class Cables(NamedTuple):
     log_rows : (cap, 7) float64, log_count : (1,) int64: events (module docstring).
     """
 
-    control: np.ndarray
     node_pos: np.ndarray
     node_vel: np.ndarray
     node_force: np.ndarray
@@ -130,7 +130,6 @@ def no_cables() -> Cables:
         dtype = np.int64 if f in _INT else np.int8 if f in _INT8 else np.float64
         shape = (0, 2) if f in _PAIRS else (0,)
         out[f] = np.zeros(shape, dtype)
-    out["control"] = np.zeros(3)
     out["log_rows"] = np.zeros((64, 7))
     out["log_count"] = np.zeros(1, np.int64)
     return Cables(**out)
@@ -146,10 +145,10 @@ def log_event(rows, count, time, x, y, kind, element, part):
 
 
 @njit(cache=True)
-def _axial(cb):
-    """Segment forces into node_force; each segment's direction into node_tangent."""
+def _axial(cb, time):
+    """Segment forces into node_force; each segment's direction into node_tangent (``time``
+    s: the step's, for the event log)."""
     x, f, t = cb.node_pos, cb.node_force, cb.node_tangent
-    time = cb.control[2]
     for j in range(cb.seg_a.shape[0]):
         if cb.seg_state[j] == 2:
             continue
@@ -184,8 +183,9 @@ def _axial(cb):
 
 
 @njit(cache=True)
-def _grout(cb, s, p):
-    """Grout forces between each node and its host block (module docstring)."""
+def _grout(cb, s, p, time):
+    """Grout forces between each node and its host block (module docstring; ``time`` s, for
+    the event log)."""
     x, f, t = cb.node_pos, cb.node_force, cb.node_tangent
     for i in range(x.shape[0]):
         h = cb.node_host[i]
@@ -214,7 +214,7 @@ def _grout(cb, s, p):
             along = sign * cap
             if cb.node_state[i] == 0 and cap > 0.0:
                 cb.node_state[i] = 1
-                log_event(cb.log_rows, cb.log_count, cb.control[2], x[i, 0], x[i, 1], GROUT_SLIP,
+                log_event(cb.log_rows, cb.log_count, time, x[i, 0], x[i, 1], GROUT_SLIP,
                           cb.node_cable[i], i)
         across = k * (-rx * ty + ry * tx)
         gx = along * tx - across * ty
@@ -228,15 +228,13 @@ def _grout(cb, s, p):
 
 
 @njit(cache=True)
-def add_cables(cb, s, p):
-    """Cable forces on the blocks (grout), then the nodes move one step (module docstring)."""
-    n = cb.node_pos.shape[0]
-    if n == 0:
+def add_cables(cb, s, p, time):
+    """Cable forces: the segments' and the grout's on the nodes (``node_force``), the grout's
+    on the host blocks (module docstring); ``time`` (s) the step's, for the event log. The
+    nodes do not move here (``step.nodes.advance_support``)."""
+    if cb.node_pos.shape[0] == 0:
         return
     cb.node_force[:] = 0.0
     cb.node_tangent[:] = 0.0
-    _axial(cb)
-    _grout(cb, s, p)
-    move_nodes(cb.node_pos, cb.node_vel, cb.node_force, cb.node_inv_mass, cb.control[0],
-               cb.control[1])
-    cb.control[2] += cb.control[0]
+    _axial(cb, time)
+    _grout(cb, s, p, time)

@@ -31,9 +31,14 @@ strength; afterwards the face only pushes (F_n for r . n < 0; no shear, no momen
 while the node is over that bond's own bit of face (|r . t| and -r . n at most l): once the
 block has moved or turned away, its face's line no longer reaches the node (without that limit
 a turned face could find the node metres "inside" it and throw it out: docs/history.md). A bond
-whose host was excavated is gone, so a liner spans the opening. Gravity acts on the liner's
-real mass rho t l per node; its inertia is scaled like a cable node's
-(``support.set_node_masses``).
+whose host was excavated is gone, so a liner spans the opening. Gravity (the step's
+``Gravity`` bundle) acts on the liner's real mass rho t l per node; its inertia is scaled like
+a cable node's (``support.set_node_masses``).
+
+This kernel computes forces only (``add_liners``: elements, bonds, the nodes' weight). The
+nodes (position and rotation) are advanced by the step's one integration
+(``step.integration.advance_nodes``, ``step.nodes.advance_support``), right after the blocks
+and with their dt, local damping, kick and kinetic-damping stop.
 
 Events (first axial yield or hinge of an element, bond failure of a node) go to ``log_rows``
 (``cables.log_event``; kinds ``YIELD`` and ``LINER_BOND``).
@@ -48,7 +53,6 @@ from numba import njit
 
 from ..step.kinematics import body_point, rotate
 from .cables import LINER_BOND, YIELD, log_event
-from ..step.nodes import damped, move_nodes
 
 __all__ = ["Liners", "add_liners", "no_liners"]
 
@@ -56,7 +60,6 @@ __all__ = ["Liners", "add_liners", "no_liners"]
 class Liners(NamedTuple):
     """Every liner of a model (``N`` nodes, ``E`` elements; both 0: none).
 
-    control : (5,) float64. dt (s), local damping alpha, time (s), gravity gx, gy (m/s^2).
     node_pos : (N, 2) m. node_theta : (N,) rad. node_vel : (N, 2) m/s. node_omega : (N,) rad/s.
     node_force : (N, 3) N/m, N m/m (scratch). node_pos0 : (N, 2) m, where each node was
     installed. node_mass : (N,) kg/m real. node_inv_mass,
@@ -74,7 +77,6 @@ class Liners(NamedTuple):
     log_rows : (cap, 7), log_count : (1,) (``cables`` module docstring).
     """
 
-    control: np.ndarray
     node_pos: np.ndarray
     node_theta: np.ndarray
     node_vel: np.ndarray
@@ -127,7 +129,6 @@ def no_liners() -> Liners:
     for f in Liners._fields:
         dtype = np.int64 if f in _INT else np.int8 if f in _INT8 else np.float64
         out[f] = np.zeros((0, _WIDTH[f]) if f in _WIDTH else (0,), dtype)
-    out["control"] = np.zeros(5)
     out["log_rows"] = np.zeros((64, 7))
     out["log_count"] = np.zeros(1, np.int64)
     return Liners(**out)
@@ -140,8 +141,9 @@ def _wrap(a):
 
 
 @njit(cache=True)
-def _elements(ln):
-    """Beam element forces into node_force (module docstring)."""
+def _elements(ln, time):
+    """Beam element forces into node_force (module docstring; ``time`` s, for the event
+    log)."""
     x, th, f = ln.node_pos, ln.node_theta, ln.node_force
     for e in range(ln.el_a.shape[0]):
         a, b = ln.el_a[e], ln.el_b[e]
@@ -155,7 +157,7 @@ def _elements(ln):
             cap = ln.el_nt[e] if n > 0.0 else -ln.el_nc[e]
             pl[0] = length - l0 - cap * l0 / ln.el_ea[e]
             n = cap
-            _yielded(ln, e, x, a, b)
+            _yielded(ln, e, x, a, b, time)
         kb = ln.el_ei[e] / l0
         pa, pb = th[a] - psi - pl[1], th[b] - psi - pl[2]
         ma, mb = kb * (4.0 * pa + 2.0 * pb), kb * (2.0 * pa + 4.0 * pb)
@@ -168,7 +170,7 @@ def _elements(ln):
             pa, pb = th[a] - psi - pl[1], th[b] - psi - pl[2]
             ma = min(mp, max(-mp, kb * (4.0 * pa + 2.0 * pb)))
             mb = min(mp, max(-mp, kb * (2.0 * pa + 4.0 * pb)))
-            _yielded(ln, e, x, a, b)
+            _yielded(ln, e, x, a, b, time)
         v = (ma + mb) / length
         ln.el_force[e, 0], ln.el_force[e, 1], ln.el_force[e, 2] = n, ma, mb
         f[a, 0] += n * ex + v * ey
@@ -180,22 +182,23 @@ def _elements(ln):
 
 
 @njit(cache=True, inline="always")
-def _yielded(ln, e, x, a, b):
+def _yielded(ln, e, x, a, b, time):
     if ln.el_state[e] == 0:
         ln.el_state[e] = 1
-        log_event(ln.log_rows, ln.log_count, ln.control[2], 0.5 * (x[a, 0] + x[b, 0]),
+        log_event(ln.log_rows, ln.log_count, time, 0.5 * (x[a, 0] + x[b, 0]),
                   0.5 * (x[a, 1] + x[b, 1]), YIELD, ln.el_liner[e], e)
 
 
 @njit(cache=True)
-def _bond(ln, s, p):
-    """Gravity on the nodes, and the bond forces between nodes and host faces (module
-    docstring)."""
+def _bond(ln, s, p, time, gravity):
+    """Gravity (``gravity.accel``, m/s^2; no rows: none) on the nodes, and the bond forces
+    between nodes and host faces (module docstring; ``time`` s, for the event log)."""
     x, f = ln.node_pos, ln.node_force
-    gx, gy = ln.control[3], ln.control[4]
-    for i in range(x.shape[0]):
-        f[i, 0] += ln.node_mass[i] * gx
-        f[i, 1] += ln.node_mass[i] * gy
+    for r in range(gravity.accel.shape[0]):
+        gx, gy = gravity.accel[r, 0], gravity.accel[r, 1]
+        for i in range(x.shape[0]):
+            f[i, 0] += ln.node_mass[i] * gx
+            f[i, 1] += ln.node_mass[i] * gy
     for k in range(ln.bond_node.shape[0]):
         h, i = ln.bond_host[k], ln.bond_node[k]
         if p.active[h] == 0:
@@ -211,7 +214,7 @@ def _bond(ln, s, p):
         if ln.bond_state[k] == 0 and (fn / length + 6.0 * abs(m) / length ** 2 >
                                       ln.bond_tension[k] or abs(fs) > ln.bond_shear[k] * length):
             ln.bond_state[k] = 1
-            log_event(ln.log_rows, ln.log_count, ln.control[2], x[i, 0], x[i, 1], LINER_BOND,
+            log_event(ln.log_rows, ln.log_count, time, x[i, 0], x[i, 1], LINER_BOND,
                       ln.node_liner[i], k)
         if ln.bond_state[k] != 0:          # only a push, and only over its own bit of face
             over = (abs(-rx * ny + ry * nx) <= length
@@ -229,18 +232,13 @@ def _bond(ln, s, p):
 
 
 @njit(cache=True)
-def add_liners(ln, s, p):
-    """Liner forces on the blocks (bond), then the liner nodes move one step."""
-    n = ln.node_pos.shape[0]
-    if n == 0:
+def add_liners(ln, s, p, time, gravity):
+    """Liner forces: the elements' and bonds' and the weight (``gravity``, the step's
+    ``Gravity`` bundle) on the nodes (``node_force``), the bonds' on the host blocks; ``time``
+    (s) the step's, for the event log. The nodes do not move here
+    (``step.nodes.advance_support``)."""
+    if ln.node_pos.shape[0] == 0:
         return
     ln.node_force[:] = 0.0
-    _elements(ln)
-    _bond(ln, s, p)
-    dt, alpha = ln.control[0], ln.control[1]
-    move_nodes(ln.node_pos, ln.node_vel, ln.node_force, ln.node_inv_mass, dt, alpha)
-    for i in range(n):
-        ln.node_omega[i] += damped(ln.node_force[i, 2], ln.node_omega[i], alpha) * \
-            ln.node_inv_inertia[i] * dt
-        ln.node_theta[i] += ln.node_omega[i] * dt
-    ln.control[2] += dt
+    _elements(ln, time)
+    _bond(ln, s, p, time, gravity)

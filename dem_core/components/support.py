@@ -198,7 +198,7 @@ def _join(bundle, new: dict):
     n_new = {"node": len(new["node_pos"]), **{k: len(new[f"{k}_{a}"]) for k, a in
                                               (("seg", "a"), ("el", "a"), ("bond", "node"))
                                               if f"{k}_{a}" in new}}
-    out = {"control": bundle.control, "log_count": bundle.log_count}
+    out = {"log_count": bundle.log_count}
     for f in bundle._fields:
         old = getattr(bundle, f)
         if f in out or f == "log_rows":
@@ -459,14 +459,6 @@ def set_node_masses(cb, ln, w2max: float):
         inertia = mass * lmin ** 2 + 2.0 * k_turn / w2max
         ln.node_inv_mass[:] = 1.0 / mass
         ln.node_inv_inertia[:] = 1.0 / inertia
-
-
-def set_controls(cb, ln, dt, damping, time, gravity):
-    """The support bundles' clock: dt (s), damping, time (s) and gravity (m/s^2) for the next
-    run of steps."""
-    for b in (cb, ln):
-        b.control[0], b.control[1], b.control[2] = dt, damping, time
-    ln.control[3:5] = gravity
 
 
 def unbalanced(cb, ln, gravity):

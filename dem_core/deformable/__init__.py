@@ -2,7 +2,8 @@
 
 Holds: ``zones`` (the zones' mesh arrays, explicit step, energies, stiffness), ``zone_mesh``
 (gmsh meshes of the blocks), ``zone_plasticity`` (Mohr-Coulomb zones with a tension cut-off),
-``component`` (the ``Deformable`` bundle and its force component ``add_deformable``), ``held``
+``component`` (the ``Deformable`` bundle, its force component ``add_deformable`` and the
+gridpoints' move ``advance_zones``, which the step's integration calls), ``held``
 (deformable blocks at the model's boundary, monitoring), ``setup`` (the ``Model`` options
 ``deformable`` and ``zone_strength`` checked and turned into the bundle).
 

@@ -26,10 +26,15 @@ load is self-equilibrated in force and moment (to round-off) whatever the frame 
 force in proportion to mass (gravity, a centrifuge g-level, ``Model.apply_load``) has no
 non-rigid part and strains nothing by itself; forces that act on the frame only (applied
 loads, water, cables, liners, the reaction of a prescribed velocity) are taken as spread like
-the mass. The gridpoints then move by local damping and leapfrog (``components.nodes.damped``,
-the blocks' dt and alpha), and the mass-weighted mean displacement and (linearised) mean
-rotation about the centroid are taken out of u and of its velocity, so u stays a pure
-deformation and the frame's pose stays the body's mass centre and mean rotation:
+the mass. A held block's zones instead take its whole load, their weight (the step's
+``Gravity`` bundle, in the block's axes) included.
+
+Motion (``advance_zones``, called by the step's one integration,
+``step.integration.advance_nodes``, right after the blocks move). The gridpoints move by local
+damping and leapfrog (``step.nodes.damped``) with the blocks' dt, alpha, kick and
+kinetic-damping stop (``step.relaxation``), and the mass-weighted mean displacement and
+(linearised) mean rotation about the centroid are taken out of u and of its velocity, so u
+stays a pure deformation and the frame's pose stays the body's mass centre and mean rotation:
 
     u_i <- u_i - ubar,   ubar = sum m_i u_i / M
     u_i <- u_i - phi k x x0_i,   phi = sum m_i (x0_i x u_i) / sum m_i |x0_i|^2   (same for v)
@@ -55,7 +60,7 @@ from .held import box_sides
 from ..step.nodes import damped
 
 __all__ = ["Deformable", "no_deformable", "deformable_bundle", "add_deformable",
-           "zone_kinetic_energy", "gridpoint_stiffness",
+           "advance_zones", "zone_kinetic_energy", "gridpoint_stiffness",
            "kinetic_energy", "strain_energy"]
 
 
@@ -82,8 +87,6 @@ class Deformable(NamedTuple):
         the face that starts at polygon vertex j (``BlockProps.local_vertices``), in order from
         vertex j to the next: edge_points[edge_offsets[j]:edge_offsets[j + 1]] (empty for a
         rigid block's faces); the first is vertex j's own gridpoint.
-    control : (4,) float64. dt (s), the local damping alpha and the gravity (gx, gy) in the
-        world (m/s2), set before each run.
     held : (nb,) int8. 1 for a deformable block held by a boundary condition (``Model.fix``,
         ``set_velocity``): its frame is held whole and its zones take its whole load.
     point_held : (ng,) int8. Bits FIX_X, FIX_Y: the gridpoint's held directions (block axes).
@@ -112,7 +115,6 @@ class Deformable(NamedTuple):
     vertices: np.ndarray
     edge_offsets: np.ndarray
     edge_points: np.ndarray
-    control: np.ndarray
     strength: np.ndarray
     plastic: np.ndarray
     yielded: np.ndarray
@@ -138,7 +140,7 @@ def no_deformable() -> Deformable:
     return Deformable(v2, v2.copy(), v2.copy(), v2.copy(), v1, v1.copy(), v1.copy(),
                       np.zeros((0, 3), np.int64), np.zeros((0, 6)), v1.copy(), np.zeros((0, 2)),
                       np.zeros((0, 3)), i1, i1.copy(), i1.copy(), np.zeros((0, 2)), i1.copy(),
-                      i1.copy(), np.zeros(4), np.zeros((0, 4)), np.zeros((0, 4)),
+                      i1.copy(), np.zeros((0, 4)), np.zeros((0, 4)),
                       np.zeros(0, np.int8), np.zeros(0, np.int8), np.zeros(0, np.int8),
                       np.zeros(0, np.int8))
 
@@ -194,7 +196,7 @@ def deformable_bundle(props, size, E, nu, density, strength=None, origin=None,
     return Deformable(z.x0, z.x, z.v, z.f, z.mass, z.inv_mass.copy(), rows, z.nodes, z.bc, z.area,
                       z.lame, z.stress, z.block, point_offsets, np.asarray(off, np.int64).copy(),
                       np.asarray(props.local_vertices, np.float64).copy(), edge_offsets, edge_points,
-                      np.zeros(4), z.strength, z.plastic, z.yielded, np.zeros(nb, np.int8), np.zeros(ng, np.int8),
+                      z.strength, z.plastic, z.yielded, np.zeros(nb, np.int8), np.zeros(ng, np.int8),
                       box_sides(z.x0, point_offsets, origin, bounds))
 
 
@@ -202,15 +204,15 @@ def deformable_bundle(props, size, E, nu, density, strength=None, origin=None,
 # removes the bundle copies the inlined helpers leave (and their reference counting), about
 # 5x faster here; it still runs on the calling thread
 @njit(cache=True, parallel=True)
-def add_deformable(zones, c, s, p, kick):
-    """The zones' step (module docstring): elastic and contact forces on the gridpoints, the
-    rigid part of that load taken off, damping, leapfrog (velocities kicked by ``kick`` s: dt,
-    or dt / 2 on the step after a kinetic-damping stop, as the blocks), mean motion removed."""
+def add_deformable(zones, c, s, p, gravity):
+    """The zones' forces (module docstring): elastic and contact forces on the gridpoints, then
+    per block the rigid part of that load taken off, or, for a held block, its weight
+    (``gravity``, the step's ``Gravity`` bundle) added. The gridpoints move in
+    ``advance_zones``."""
     if zones is None:                    # rigid blocks: numba leaves the rest out
         return
     if zones.point_offsets.shape[0] == 0:
         return
-    dt, alpha = zones.control[0], zones.control[1]
     zones.f[:] = 0.0
     add_zone_forces(zones)
     for k in range(c.count[0]):
@@ -227,23 +229,51 @@ def add_deformable(zones, c, s, p, kick):
         if eb >= 0:
             lx, ly = unrotate(s.rot, b, fx, fy)
             spread(zones.f, zones, eb, qb0, qb1, lx, ly, 1.0)
+    wx, wy = 0.0, 0.0                    # gravity in the world, m/s^2
+    for r in range(gravity.accel.shape[0]):
+        wx, wy = gravity.accel[r, 0], gravity.accel[r, 1]
     for blk in range(zones.point_offsets.shape[0] - 1):
         g0, g1 = zones.point_offsets[blk], zones.point_offsets[blk + 1]
         if g0 < g1 and p.active[blk]:
             if zones.held[blk] != 0:
-                gx, gy = unrotate(s.rot, blk, zones.control[2], zones.control[3])
-                _move_held(zones, g0, g1, dt, kick, alpha, gx, gy)
+                gx, gy = unrotate(s.rot, blk, wx, wy)
+                _weight(zones, g0, g1, gx, gy)
+            else:
+                _non_rigid(zones, g0, g1)
+
+
+# (parallel=True: as ``add_deformable``)
+@njit(cache=True, parallel=True)
+def advance_zones(zones, p, dt, kick, alpha):
+    """The gridpoints' step from the forces ``add_deformable`` left in ``f`` (module
+    docstring): local damping ``alpha``, velocities kicked by ``kick`` s (dt, or dt / 2 on the
+    step after a kinetic-damping stop, as the blocks), positions by v ``dt``; then the mean
+    motion removed (not in a held block). Called by the step's integration
+    (``step.integration.advance_nodes``)."""
+    if zones is None:                    # rigid blocks: numba leaves the rest out
+        return
+    for blk in range(zones.point_offsets.shape[0] - 1):
+        g0, g1 = zones.point_offsets[blk], zones.point_offsets[blk + 1]
+        if g0 < g1 and p.active[blk]:
+            if zones.held[blk] != 0:
+                _move_held(zones, g0, g1, dt, kick, alpha)
             else:
                 _move_block(zones, g0, g1, dt, kick, alpha)
 
 
 @njit(cache=True, inline="always")
-def _move_held(zones, g0, g1, dt, kick, alpha, gx, gy):
-    """A held block's gridpoints (its frame does not move): the whole load, the weight
-    (gx, gy in block axes) included; ``point_held`` directions stay at rest."""
+def _weight(zones, g0, g1, gx, gy):
+    """A held block's gridpoints take their weight (gx, gy in block axes, m/s^2)."""
     for i in range(g0, g1):
         zones.f[i, 0] += zones.mass[i] * gx
         zones.f[i, 1] += zones.mass[i] * gy
+
+
+@njit(cache=True, inline="always")
+def _move_held(zones, g0, g1, dt, kick, alpha):
+    """A held block's gridpoints (its frame does not move) under their whole load;
+    ``point_held`` directions stay at rest."""
+    for i in range(g0, g1):
         for q in range(2):
             if zones.point_held[i] & (1 << q):
                 zones.v[i, q] = 0.0
@@ -254,7 +284,9 @@ def _move_held(zones, g0, g1, dt, kick, alpha, gx, gy):
 
 
 @njit(cache=True, inline="always")
-def _move_block(zones, g0, g1, dt, kick, alpha):
+def _non_rigid(zones, g0, g1):
+    """Take the rigid part off a free block's gridpoint load: f_i -= m_i (a + alpha k x
+    (x_i - c)) (module docstring)."""
     x, f, m = zones.x, zones.f, zones.mass
     mt, cx, cy, fx, fy = 0.0, 0.0, 0.0, 0.0, 0.0
     for i in range(g0, g1):
@@ -275,9 +307,15 @@ def _move_block(zones, g0, g1, dt, kick, alpha):
         rx, ry = x[i, 0] - cx, x[i, 1] - cy
         f[i, 0] -= m[i] * (ax - al * ry)
         f[i, 1] -= m[i] * (ay + al * rx)
+
+
+@njit(cache=True, inline="always")
+def _move_block(zones, g0, g1, dt, kick, alpha):
+    """A free block's gridpoints: leapfrog, then the mean motion taken out of u and v."""
+    for i in range(g0, g1):
         for q in range(2):
-            zones.v[i, q] += damped(f[i, q], zones.v[i, q], alpha) * zones.inv_mass[i] * kick
-            x[i, q] += zones.v[i, q] * dt
+            zones.v[i, q] += damped(zones.f[i, q], zones.v[i, q], alpha) * zones.inv_mass[i] * kick
+            zones.x[i, q] += zones.v[i, q] * dt
     _remove_rigid(zones, g0, g1, True)
     _remove_rigid(zones, g0, g1, False)
 

@@ -10,7 +10,9 @@ file and its version.
 
 Format versions: 1, files written before the format was versioned (2026-11-24 to 28: the
 options as attributes, ``fixed_dt`` for the option ``dt``, the options added later missing);
-2, the ``SolverOptions`` record under ``meta["options"]``.
+2, the ``SolverOptions`` record under ``meta["options"]``; 3 (2026-11-29), without the
+``control`` arrays of the cables, liners and zones bundles (copies of the model's dt, damping,
+time and gravity, from when those parts had their own clock: the step now gives them its own).
 """
 from __future__ import annotations
 
@@ -34,7 +36,7 @@ from ..step.state import BlockProps, BlockState, CrackLog
 
 __all__ = ["save_parts", "load_parts", "write_model", "read_model", "RUNNING", "FORMAT"]
 
-FORMAT = 2
+FORMAT = 3
 
 # What changes while a model runs (``Model.snapshot``/``restore`` copy these attributes); the
 # rest is fixed when it is built, or changed only by ``Model.set_options``.
@@ -181,6 +183,9 @@ def _upgrade(meta, path) -> dict:
     if version == 1:
         meta = _from_1(meta)
         version = 2
+    if version == 2:
+        meta = _from_2(meta)
+        version = 3
     if version != FORMAT:
         raise ValueError(f"{path}: a model file of format {version}; this dem_core reads "
                          f"formats 1 to {FORMAT}: save it again with a dem_core that knows it")
@@ -197,3 +202,11 @@ def _from_1(meta) -> dict:
     clock = dict(meta["clock"])
     clock.setdefault("critical_dt", float("inf"))
     return dict(meta, format=2, options=settings, clock=clock)
+
+
+def _from_2(meta) -> dict:
+    """Format 2 -> 3: the cables', liners' and zones' ``control`` arrays (dt, damping, time
+    and gravity: copies of the model's own, taken from the model before every run) are
+    dropped; ``load_parts`` reads a bundle's present fields only (``_bundle``), so the old
+    arrays in the file are left behind and nothing else changes."""
+    return dict(meta, format=3)

@@ -2,7 +2,8 @@
 
 Holds: ``state`` (the state bundles), ``kinematics`` (rigid-body helpers every kernel uses),
 ``run`` (the step: ``run_steps``, serial and threaded), ``integration`` (damping, leapfrog,
-movement checks), ``relaxation`` (kinetic damping), ``nodes`` (the update of support nodes),
+movement checks: of blocks, support nodes and gridpoints), ``relaxation`` (kinetic damping),
+``nodes`` (the update of support nodes),
 ``critical_step`` (the eigenvalue step estimate), ``threads/`` (the step on several threads).
 
 May import: numpy, numba, ``dem_core.contact``, ``dem_core.components``,

@@ -1,8 +1,11 @@
-"""Damping, integration and the movement checks of the time step (``step.run``), on one thread
-(``advance``), on the threads by chunks of blocks (``advance_parallel``), or for a list of
-blocks (``advance_range`` with ``blocks``: the threaded step's owned and shared blocks,
-``region``). Every path runs the one compiled loop of
-``advance_range``, so every block gets the same numbers, bit for bit.
+"""Damping, integration and the movement checks of the time step (``step.run``): the one
+integration of everything that moves. The blocks on one thread (``advance``), on the threads by
+chunks of blocks (``advance_parallel``), or for a list of blocks (``advance_range`` with
+``blocks``: the threaded step's owned and shared blocks, ``region``); every path runs the one
+compiled loop of ``advance_range``, so every block gets the same numbers, bit for bit. Then
+``advance_nodes``: the cable and liner nodes (``nodes.advance_support``) and the deformable
+blocks' gridpoints (``deformable.component.advance_zones``), with the same dt, damping and kick
+(and, in ``relaxation``, the same kinetic-damping stop), from the forces their kernels left.
 
 For each free velocity component:  F_d = f - alpha |f| sign(v)   (local non-viscous damping:
                                    Cundall 1987, "Distinct element models of rock and soil
@@ -10,7 +13,8 @@ For each free velocity component:  F_d = f - alpha |f| sign(v)   (local non-visc
                                    v  += F_d / m_inertial * kick
 prescribed components:             v   = v_bc
 then x += v dt, theta += omega dt, rot = R(theta). ``kick`` (s) is ``dt``, or ``dt / 2`` on the
-first step after a kinetic-damping stop (``step.relaxation``).
+first step after a kinetic-damping stop (``step.relaxation``). The same for every support node
+and gridpoint (velocities at half steps, positions by v dt).
 
 Status codes: 0 done, 1 a block moved more than half the search margin since the last contact
 search, 2 unstable (NaN, or a block moving more than a tenth of its radius, or turning 0.1 rad,
@@ -21,11 +25,12 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from .nodes import damped
+from ..deformable.component import advance_zones
+from .nodes import advance_support, damped
 from .kinematics import set_rotation
 
-__all__ = ["advance", "advance_range", "advance_parallel", "merge_status", "DONE",
-           "NEED_SEARCH", "UNSTABLE", "MIN_THREADED_BLOCKS"]
+__all__ = ["advance", "advance_range", "advance_parallel", "advance_nodes", "merge_status",
+           "DONE", "NEED_SEARCH", "UNSTABLE", "MIN_THREADED_BLOCKS"]
 
 DONE, NEED_SEARCH, UNSTABLE = 0, 1, 2
 
@@ -130,3 +135,13 @@ def advance_parallel(s, p, integ, kick):
             first_unstable = min(first_unstable, u)
         last_search = max(last_search, n)
     return merge_status(first_unstable, last_search, nb)
+
+
+@njit(cache=True)
+def advance_nodes(integ, world, parts, kick):
+    """Everything else that moves, after the blocks (``advance``), with their ``integ.dt``,
+    local damping ``integ.damping`` and ``kick`` (s): the cable and liner nodes (``parts``'
+    bundles; empty: nothing) and the deformable blocks' gridpoints (``world.zones``; None or
+    empty: nothing), from the forces their kernels computed this step."""
+    advance_support(parts.cables, parts.liners, integ.dt, kick, integ.damping)
+    advance_zones(world.zones, world.props, integ.dt, kick, integ.damping)

@@ -11,6 +11,11 @@ The interval must stay well below a quarter of the slowest period; local damping
 slender model's lowest bending mode only over many of its periods, kinetic damping within a few
 quarter periods. Prescribed velocities are kept.
 
+Everything that moves takes part: the blocks, the deformable blocks' gridpoints and the cable
+and liner nodes count in the kinetic energy (inertial masses), and a stop zeroes all their
+velocities; the half kick after it is the one kick of the step's integration
+(``integration.advance``, ``integration.advance_nodes``).
+
 Sources: kinetic damping is the dynamic relaxation of P. A. Cundall (1976), "Explicit finite
 difference methods in geomechanics", Proc. 2nd Int. Conf. Numerical Methods in Geomechanics,
 Blacksburg, ASCE, vol. 1, pp. 132-150, in the form set out by P. Underwood (1983), "Dynamic
@@ -23,6 +28,7 @@ from __future__ import annotations
 from numba import njit
 
 from ..deformable.component import zone_kinetic_energy
+from .nodes import stop_support, support_kinetic_energy
 
 __all__ = ["next_kick", "end_step", "kinetic_damping", "free_kinetic_energy", "stop_free_motion"]
 
@@ -37,18 +43,18 @@ def next_kick(integ):
 
 
 @njit(cache=True)
-def end_step(integ, s, p, zones):
-    """Kinetic damping after the blocks moved (a stop also stops the zones)."""
-    kinetic_damping(integ, s, p, zones)
-    if zones is not None:                # (None: rigid blocks, this is left out)
-        if integ.kinetic[2] != 0.0:
-            zones.v[:] = 0.0
+def end_step(integ, world, parts):
+    """Kinetic damping after everything moved: the blocks and ``world.zones`` and, unless
+    ``parts`` is None (the threaded region's step: gravity only, no support), the support
+    nodes of ``parts``."""
+    kinetic_damping(integ, world.state, world.props, world.zones, parts)
 
 
 @njit(cache=True)
-def kinetic_damping(integ, s, p, zones):
+def kinetic_damping(integ, s, p, zones, parts):
     """Every ``kinetic_interval`` steps: stop all free motion after a kinetic-energy peak
-    (the blocks' and the deformable blocks' gridpoints')."""
+    (the blocks', the deformable blocks' gridpoints' (``zones``; None: rigid blocks, left
+    out) and the support nodes' (``parts``; None: left out))."""
     if integ.kinetic_interval <= 0:
         return
     k = integ.kinetic
@@ -59,8 +65,10 @@ def kinetic_damping(integ, s, p, zones):
     ke = free_kinetic_energy(s, p)
     if zones is not None:
         ke += zone_kinetic_energy(zones, p.active)
+    if parts is not None:
+        ke += support_kinetic_energy(parts.cables, parts.liners)
     if ke < k[0]:
-        stop_free_motion(s, p)
+        stop_free_motion(s, p, zones, parts)
         ke = 0.0
         k[2] = 1.0          # restart from rest: half a kick next step
     k[0] = ke
@@ -85,8 +93,13 @@ def free_kinetic_energy(s, p):
 
 
 @njit(cache=True)
-def stop_free_motion(s, p):
-    """Zero every free velocity component (prescribed ones keep their value)."""
+def stop_free_motion(s, p, zones, parts):
+    """Zero every free velocity component (prescribed ones keep their value), and the
+    gridpoints' (``zones``) and support nodes' (``parts``) velocities (None: left out)."""
+    if zones is not None:
+        zones.v[:] = 0.0
+    if parts is not None:
+        stop_support(parts.cables, parts.liners)
     for i in range(s.vel.shape[0]):
         if not p.active[i]:
             continue

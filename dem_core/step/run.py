@@ -7,20 +7,30 @@ One step (``run_steps`` loops it inside numba, no Python in between)::
     f += gravity                             components/gravity.py   (empty bundle: nothing)
     f += applied loads                       components/loads.py
     f += water pressure                      components/water.py
-    f += cables and bolts (grout); their     components/cables.py
-         nodes move one step
-    f += liners (bond); their nodes move     components/liner.py
+    f += cables and bolts: grout on the      components/cables.py (forces only)
+         blocks; segments and grout on
+         their nodes
+    f += liners: bonds on the blocks;        components/liner.py (forces only)
+         elements, bonds, weight on nodes
     servo velocities from f                  components/servo.py: last, so it reacts to every
                                              force of the step
     deformable blocks' zones: their forces   deformable/component.py (empty bundle: nothing)
          (elastic, the contacts' shares),
-         the rigid part off; they move
-    for each free velocity component:  F_d = f - alpha |f| sign(v)        (local damping)
-                                       v  += F_d / m_inertial * dt
+         the rigid part off
+    kick = dt, or dt / 2 on the first step after a kinetic-damping stop   relaxation.next_kick
+    blocks, for each free velocity component:                             integration.advance
+                                       F_d = f - alpha |f| sign(v)        (local damping)
+                                       v  += F_d / m_inertial * kick
     prescribed components:             v   = v_bc
     x += v dt;  theta += omega dt;  rot = R(theta);  checks (stability, search needed)
-                                             integration.py
-    kinetic damping (every ``kinetic_interval`` steps; a stop also stops the zones)
+    then the same update, same dt, alpha and kick, for the cable and liner nodes (x, and a
+    liner node's theta) and the deformable blocks' gridpoints (mean motion removed)
+                                             integration.advance_nodes
+    kinetic damping (every ``kinetic_interval`` steps): the kinetic energy of blocks,
+    gridpoints and support nodes; a stop zeroes all their velocities       relaxation.end_step
+
+Everything that moves is advanced in the one integration, with one clock (``time``, which the
+support kernels' event logs read) and one ``Integrator``: the force kernels only add forces.
 
 With threads (``Model(threads=n)``, a non-empty ``Parallel`` bundle) ``run_steps_threaded``
 runs the same step, the same numbers for every block, bit for bit, in one of two shapes:
@@ -31,7 +41,8 @@ runs the same step, the same numbers for every block, bit for bit, in one of two
   shared blocks' forces, gravity and moves;
 - otherwise: ``parallel.add_contact_forces_parallel`` (which also zeroes f, block by block),
   the other forces, and the damping and integration ``advance_parallel`` (from
-  ``MIN_THREADED_BLOCKS`` blocks up; serial below): two regions.
+  ``MIN_THREADED_BLOCKS`` blocks up; serial below): two regions; then, on the calling thread,
+  ``advance_nodes`` (support nodes, gridpoints) and kinetic damping, as in ``run_steps``.
 
 Velocities live at half steps (t - dt/2, t + dt/2), positions at whole steps. With alpha = 0 the
 scheme is symplectic: energy oscillates by O((omega dt)^2) and does not drift.
@@ -51,7 +62,7 @@ from ..components import add_cables, add_gravity, add_liners, add_loads, add_wat
 from ..deformable.component import add_deformable
 from ..contact.forces import add_contact_forces
 from .integration import (DONE, MIN_THREADED_BLOCKS, NEED_SEARCH, UNSTABLE, advance,
-                          advance_parallel)
+                          advance_nodes, advance_parallel)
 from .kinematics import body_point
 from .threads.parallel import add_contact_forces_parallel
 from .threads.region import run_steps_region
@@ -75,12 +86,14 @@ def run_steps(nsteps, time, integ, world, parts):
         s.force[:] = 0.0
         add_contact_forces(world.contacts, world.strength, s, world.cracks, time,
                            world.corners, integ.edge_elements, world.zones)
-        kick = add_other_forces(integ, world, parts)
+        add_other_forces(time, world, parts)
+        kick = next_kick(integ)
         status, bad = advance(s, p, integ, kick)
         if status == UNSTABLE:
             return step, time, UNSTABLE, bad
+        advance_nodes(integ, world, parts, kick)
         time += integ.dt
-        end_step(integ, s, p, world.zones)
+        end_step(integ, world, parts)
         if status == NEED_SEARCH:
             return step + 1, time, NEED_SEARCH, bad
     return nsteps, time, DONE, -1
@@ -102,15 +115,17 @@ def run_steps_threaded(nsteps, time, integ, world, parts, par):
         add_contact_forces_parallel(world.contacts, world.strength, s, world.cracks, time,
                                     world.corners, par, integ.edge_elements,  # (zeroes f)
                                     world.zones)
-        kick = add_other_forces(integ, world, parts)
+        add_other_forces(time, world, parts)
+        kick = next_kick(integ)
         if s.pos.shape[0] < MIN_THREADED_BLOCKS:
             status, bad = advance(s, p, integ, kick)
         else:
             status, bad = advance_parallel(s, p, integ, kick)
         if status == UNSTABLE:
             return step, time, UNSTABLE, bad
+        advance_nodes(integ, world, parts, kick)
         time += integ.dt
-        end_step(integ, s, p, world.zones)
+        end_step(integ, world, parts)
         if status == NEED_SEARCH:
             return step + 1, time, NEED_SEARCH, bad
     return nsteps, time, DONE, -1
@@ -129,20 +144,17 @@ def only_gravity(parts, zones):
 
 
 @njit(cache=True)
-def add_other_forces(integ, world, parts):
-    """Every force but the contacts', the servos, and the deformable blocks' zones (which move
-    here); returns the time of this step's velocity kick (s): ``dt``, or ``dt / 2`` on the
-    first step after a kinetic-damping stop."""
+def add_other_forces(time, world, parts):
+    """Every force but the contacts', the servos, and the deformable blocks' zones' forces, at
+    the step's ``time`` (s). Nothing moves here (``integration.advance``, ``advance_nodes``)."""
     s, p = world.state, world.props
     add_gravity(parts.gravity, s, p)
     add_loads(parts.loads, s, p)
     add_water(parts.water, s, p)
-    add_cables(parts.cables, s, p)
-    add_liners(parts.liners, s, p)
+    add_cables(parts.cables, s, p, time)
+    add_liners(parts.liners, s, p, time, parts.gravity)
     servo_velocities(parts.servo, s, p)
-    kick = next_kick(integ)
-    add_deformable(world.zones, world.contacts, s, p, kick)
-    return kick
+    add_deformable(world.zones, world.contacts, s, p, parts.gravity)
 
 
 @njit(cache=True)

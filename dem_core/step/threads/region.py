@@ -158,7 +158,7 @@ def _close(n, nsteps, integ, world, gravity, par, sync, clock, results):
         sync[END] = n                                # the step is not done: no time, no damping
     else:
         clock[0] += integ.dt
-        end_step(integ, s, p, world.zones)
+        end_step(integ, world, None)          # (no support here: ``run.only_gravity``)
         if status == NEED_SEARCH or n + 1 >= nsteps:
             sync[END] = n + 1
         else:
