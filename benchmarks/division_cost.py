@@ -11,7 +11,7 @@ at each contact search; its worst case, timed here, is every pair of the model t
 and the unchanged ones left as they are), the division alone (worst case), and the division's
 share of the step when searches come every ``steps_per_search`` steps (a search runs once some
 block has moved half the search margin: tens to thousands of steps apart in the cases;
-``--steps-per-search``, default 10, is a quick-moving model).
+``--steps-per-search``, default 100).
 """
 from __future__ import annotations
 
@@ -71,7 +71,7 @@ def _timed(fn):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--blocks", type=int, nargs="+", default=[100_000])
-    ap.add_argument("--steps-per-search", type=int, default=10)
+    ap.add_argument("--steps-per-search", type=int, default=100)
     a = ap.parse_args()
     for n in a.blocks:
         print(json.dumps(measure(n, steps_per_search=a.steps_per_search)), flush=True)

@@ -13,10 +13,13 @@ s_1 to s_m, carried on to where the two blocks' faces along the line stop overla
 straight parts, with rounded corners), by at most the search margin: an end of the overlap
 farther out would have a contact of its own (a vertex on a face), unless the faces are open
 there. A stretch is no shorter than the search margin (faces meeting end to end, or a corner
-found within the margin before the faces overlap). Contacts at one station (within 1e-6 of the
-stretch: the two halves of split edges of deformable blocks) share its length equally. A
-lone contact whose faces are not along one line (a corner on a face, a corner meeting a
-corner) keeps the length it was made with (``detection._new_rows``).
+found within the margin before the faces overlap). Contacts closer than the search margin are
+one station (the search makes no two contacts of a pair nearer than that), and share its
+length in proportion to the lengths they had (the ends of two shared edges of one pair
+meeting at a point stand for halves of different edges). A lone contact (a corner on a face,
+a corner meeting a corner) keeps the length it was made with (``detection._new_rows``: half of
+its edges, UDEC's domain), cut to the faces' overlap where they overlap by more than the
+margin.
 
 When: at every contact search (``update.search_contacts``), for each pair that holds a contact
 made by the search (``UNBONDED``: a vertex has passed onto a face), and each pair still holding
@@ -41,8 +44,11 @@ from __future__ import annotations
 
 import math
 
+import warnings
+
 import numpy as np
 from numba import njit
+from numba.core.errors import NumbaPerformanceWarning
 
 from .contacts import ANCHOR_A, ANCHOR_B, INTACT, UNBONDED
 from ..step.kinematics import body_point, contact_normal
@@ -52,8 +58,6 @@ __all__ = ["divide_interfaces", "interface_stations"]
 
 # contacts on one line: normals within 25 deg (as the search's merge rule, ``detection._accept``)
 PARALLEL = 0.9
-# stations closer than this fraction of the stretch are one station
-SAME_STATION = 1e-6
 # a pair still holding only the shared edge it was built with is divided anew once its
 # lengths and its stretch differ by more than this fraction (its blocks have slid)
 DRIFT = 1e-3
@@ -112,115 +116,126 @@ def _prev(p, blk, j):
     return j - 1 if j > p.vertex_offsets[blk] else p.vertex_offsets[blk + 1] - 1
 
 
-@njit(cache=True)
-def _face_span(p, s, rnd, blk, j, tx, ty, x0, y0, ext, side):
-    """Widen ``ext[side]`` (lo, hi: stations along (tx, ty) from (x0, y0)) by the face of
-    ``blk`` from vertex j to the next, if that face lies along the line (within ``ALONG``)."""
+@njit(cache=True, inline="always")
+def _face_span(p, s, rnd, blk, j, tx, ty, x0, y0, lo, hi):
+    """(lo, hi) widened by the stations (along (tx, ty) from (x0, y0)) of the face of ``blk``
+    from vertex j to the next, if that face lies along the line (within ``ALONG``)."""
     xa, ya = _corner(p, s, rnd, blk, j)
     xb, yb = _corner(p, s, rnd, blk, _next(p, blk, j))
     dx, dy = xb - xa, yb - ya
     ln = math.hypot(dx, dy)
     if ln == 0.0 or abs(dx * tx + dy * ty) < ALONG * ln:
-        return
+        return lo, hi
     sa = (xa - x0) * tx + (ya - y0) * ty
     sb = (xb - x0) * tx + (yb - y0) * ty
-    ext[side, 0] = min(ext[side, 0], sa, sb)
-    ext[side, 1] = max(ext[side, 1], sa, sb)
+    return min(lo, sa, sb), max(hi, sa, sb)
 
 
-@njit(cache=True)
-def _overlap(c, p, s, rnd, on, tx, ty, x0, y0):
+@njit(cache=True, inline="always")
+def _overlap(c, p, s, rnd, on, m, tx, ty, x0, y0):
     """(lo, hi) stations of the stretch where the two blocks' faces along the line overlap,
-    from the faces the contacts ``on`` name (B's face, and A's faces at its vertex that lie
-    along the line); (inf, -inf) when either block's face along the line is not known."""
-    lo_block = min(c.block_a[on[0]], c.block_b[on[0]])
-    ext = np.empty((2, 2))
-    ext[:, 0] = math.inf
-    ext[:, 1] = -math.inf
-    for k in on:
+    from the faces the contacts ``on[:m]`` name (B's face or, at its corner, the face beyond;
+    A's faces at its vertex that lie along the line); (inf, -inf) when either block's face
+    along the line is not known."""
+    first_block = min(c.block_a[on[0]], c.block_b[on[0]])
+    lo0, hi0, lo1, hi1 = math.inf, -math.inf, math.inf, -math.inf
+    for i in range(m):
+        k = on[i]
         a, b = c.block_a[k], c.block_b[k]
-        e = c.edge_b[k]
-        if e >= 0:                        # B's face, or at its corner the face beyond
-            side = 0 if b == lo_block else 1
-            _face_span(p, s, rnd, b, e, tx, ty, x0, y0, ext, side)
-            _face_span(p, s, rnd, b, _prev(p, b, e), tx, ty, x0, y0, ext, side)
-            _face_span(p, s, rnd, b, _next(p, b, e), tx, ty, x0, y0, ext, side)
-        va = c.vertex_a[k]
+        e = np.int64(c.edge_b[k])
+        if e >= 0:
+            for f in (e, _prev(p, b, e), _next(p, b, e)):
+                if b == first_block:
+                    lo0, hi0 = _face_span(p, s, rnd, b, f, tx, ty, x0, y0, lo0, hi0)
+                else:
+                    lo1, hi1 = _face_span(p, s, rnd, b, f, tx, ty, x0, y0, lo1, hi1)
+        va = np.int64(c.vertex_a[k])
         if va >= 0:
-            side = 0 if a == lo_block else 1
-            _face_span(p, s, rnd, a, va, tx, ty, x0, y0, ext, side)
-            _face_span(p, s, rnd, a, _prev(p, a, va), tx, ty, x0, y0, ext, side)
-    return max(ext[0, 0], ext[1, 0]), min(ext[0, 1], ext[1, 1])
+            for f in (va, _prev(p, a, va)):
+                if a == first_block:
+                    lo0, hi0 = _face_span(p, s, rnd, a, f, tx, ty, x0, y0, lo0, hi0)
+                else:
+                    lo1, hi1 = _face_span(p, s, rnd, a, f, tx, ty, x0, y0, lo1, hi1)
+    return max(lo0, lo1), min(hi0, hi1)
 
 
-@njit(cache=True)
-def _divide_group(rows, c, p, s, rnd, pts, nrm, margin, made):
-    """Divide one block pair's contacts ``rows`` (module docstring); ``made``: the pair holds
-    a contact made by the search. Returns whether a length changed."""
-    k0 = rows[0]
+@njit(cache=True, inline="always")
+def _divide_group(g0, g1, order, c, p, s, rnd, pts, nrm, margin, made, on, st, first):
+    """Divide one block pair's contacts ``order[g0:g1]`` (module docstring); ``made``: the
+    pair holds a contact made by the search; ``on``, ``st``, ``first``: scratch of at least
+    g1 - g0 (+ 1) entries. Returns whether a length changed."""
+    k0 = order[g0]
     tx, ty = -nrm[k0, 1], nrm[k0, 0]
-    member = np.zeros(rows.shape[0], np.bool_)
-    for i in range(rows.shape[0]):
-        k = rows[i]
-        member[i] = abs(nrm[k, 0] * nrm[k0, 0] + nrm[k, 1] * nrm[k0, 1]) >= PARALLEL
-    on = rows[member]
-    m = on.shape[0]
+    x0, y0 = pts[k0, 0], pts[k0, 1]
+    m = 0
+    for i in range(g0, g1):               # the contacts on the line, sorted by station
+        k = order[i]
+        if abs(nrm[k, 0] * nrm[k0, 0] + nrm[k, 1] * nrm[k0, 1]) < PARALLEL:
+            continue
+        sk = (pts[k, 0] - x0) * tx + (pts[k, 1] - y0) * ty
+        j = m
+        while j > 0 and st[j - 1] > sk:
+            st[j], on[j] = st[j - 1], on[j - 1]
+            j -= 1
+        st[j], on[j] = sk, k
+        m += 1
     if m < 2 and not made:
         return False
-    x0, y0 = pts[k0, 0], pts[k0, 1]
-    st = np.empty(m)
-    for i in range(m):
-        st[i] = (pts[on[i], 0] - x0) * tx + (pts[on[i], 1] - y0) * ty
-    order = np.argsort(st, kind="mergesort")
-    on, st = on[order], st[order]
-    # the stretch: the stations', extended to where the faces stop overlapping, by at most
-    # the search margin (farther out the search would have made a contact of its own, unless
-    # the faces are open there); no shorter than the margin
     lo, hi = st[0], st[m - 1]
-    face_lo, face_hi = _overlap(c, p, s, rnd, on, tx, ty, x0, y0)
+    face_lo, face_hi = _overlap(c, p, s, rnd, on, m, tx, ty, x0, y0)
     known = face_hi - face_lo > -math.inf
-    if m == 1 or hi - lo <= SAME_STATION * margin:
+    if m == 1 or hi - lo <= margin:
         # one station: a corner on a face keeps the length it was made with (half of its
-        # edges: UDEC's domain), cut to the faces' overlap (no shorter than the margin)
-        if not known:
-            return False
-        cut = max(face_hi - face_lo, margin)
+        # edges: UDEC's domain), cut to the faces' overlap where they overlap by more than
+        # the margin
+        if not known or face_hi - face_lo <= margin:
+            return False                  # (faces meeting at a point: a corner's length)
         changed = False
-        for k in on:
-            if c.length[k] > cut:
-                c.length[k] = cut
+        for i in range(m):
+            if c.length[on[i]] > face_hi - face_lo:
+                c.length[on[i]] = face_hi - face_lo
                 changed = True
         return changed
     if known:
         lo = max(face_lo, lo - margin)
         hi = min(face_hi, hi + margin)
-    if hi - lo < margin:
+        # a vertex slid past the other face's end (kept by the search within the margin,
+        # which then makes no contact at the end itself) stands for that end
+        for i in range(m):
+            st[i] = min(max(st[i], lo), hi)
+    if hi - lo < margin:                  # faces meeting end to end, or about to overlap
         mid = 0.5 * (lo + hi)
         lo, hi = mid - 0.5 * margin, mid + 0.5 * margin
     if not hi - lo > 0.0:
         return False
     if not made:                          # the shared edge it was built with, if not slid
         old = 0.0
-        for k in on:
-            old += c.length[k]
+        for i in range(m):
+            old += c.length[on[i]]
         if abs(old - (hi - lo)) <= DRIFT * (hi - lo):
             return False
-    tie = SAME_STATION * (hi - lo)
-    # stations: runs of (nearly) equal s; first[j] the first sorted contact of station j
-    first = np.empty(m + 1, np.int64)
+    # stations: runs of sorted s closer than the margin (the search makes no two contacts of
+    # a pair nearer than that); first[j] the first sorted contact of station j
     ns = 0
     for i in range(m):
-        if i == 0 or st[i] - st[first[ns - 1]] > tie:
+        if i == 0 or st[i] - st[i - 1] > margin:
             first[ns] = i
             ns += 1
     first[ns] = m
     changed = False
     for j in range(ns):
-        left = max(lo, 0.5 * (st[first[j - 1]] + st[first[j]])) if j > 0 else lo
-        right = min(hi, 0.5 * (st[first[j]] + st[first[j + 1]])) if j < ns - 1 else hi
-        share = max(0.0, right - left) / (first[j + 1] - first[j])
-        for i in range(first[j], first[j + 1]):
+        i0, i1 = first[j], first[j + 1]
+        left = max(lo, 0.5 * (st[i0 - 1] + st[i0])) if j > 0 else lo
+        right = min(hi, 0.5 * (st[i1 - 1] + st[i1])) if j < ns - 1 else hi
+        span = max(0.0, right - left)
+        # a station's contacts share it as they shared the interface (the two ends of two
+        # shared edges meeting there stand for halves of different edges)
+        total = 0.0
+        for i in range(i0, i1):
+            total += c.length[on[i]]
+        for i in range(i0, i1):
             k = on[i]
+            share = span * c.length[k] / total if total > 0.0 else span / (i1 - i0)
             if c.length[k] != share:
                 c.length[k] = share
                 changed = True
@@ -234,11 +249,28 @@ def _divide_group(rows, c, p, s, rnd, pts, nrm, margin, made):
     return changed
 
 
-@njit(cache=True)
+# parallel=True without a prange (as ``forces.chunk_forces``): numba's parfor pass then drops the
+# reference counting of the records' arrays around the inlined per-pair helpers, 20x faster
+# (benchmarks/division_cost.py); its warning that it found nothing to parallelise is silenced
+warnings.filterwarnings("ignore", category=NumbaPerformanceWarning,
+                        message=r"(?s).*parallel=True.*no transformation for parallel")
+
+
+@njit(cache=True, parallel=True)
 def _divide(order, keys, c, p, s, rnd, pts, nrm, margin, bond):
+    n = order.shape[0]
+    widest, g0 = 1, 0                     # the largest pair: the scratch's size
+    while g0 < n:
+        g1 = g0 + 1
+        while g1 < n and keys[order[g1]] == keys[order[g0]]:
+            g1 += 1
+        widest = max(widest, g1 - g0)
+        g0 = g1
+    on = np.empty(widest, np.int64)
+    st = np.empty(widest)
+    first = np.empty(widest + 1, np.int64)
     changed = False
     g0 = 0
-    n = order.shape[0]
     while g0 < n:
         g1 = g0 + 1
         while g1 < n and keys[order[g1]] == keys[order[g0]]:
@@ -249,7 +281,8 @@ def _divide(order, keys, c, p, s, rnd, pts, nrm, margin, bond):
             made = made or c.broken[k] == UNBONDED
             held = held or (c.broken[k] == INTACT and bond[c.material[k]])
         if not held and (made or g1 - g0 >= 2) and \
-                _divide_group(order[g0:g1], c, p, s, rnd, pts, nrm, margin, made):
+                _divide_group(g0, g1, order, c, p, s, rnd, pts, nrm, margin, made, on, st,
+                              first):
             changed = True
         g0 = g1
     return changed
