@@ -24,19 +24,13 @@ import numpy as np
 
 
 def measure(n_blocks, steps=50, steps_per_search=10, repeats=3):
-    from throughput import specimen
+    from throughput import loaded, specimen
     from dem_core.contact.contacts import UNBONDED
     from dem_core.contact.division import divide_interfaces
-    from dem_core.contact.materials import Material
     from dem_core.contact.update import search_contacts
-    from dem_core.model import Model
 
     bs = specimen(n_blocks)
-    flaw = Material(kn=40e9, ks=20e9, tensile_strength=1.1e6, cohesion=1.2e6, friction=37)
-    m = Model(bs, {"flaw:*": flaw, "boundary:*": flaw}, density=1700, history_every=10**9,
-              divide_interfaces=True)
-    m.fix("base")
-    m.set_gravity(50.0)
+    m = loaded(bs, divide_interfaces=True)
     m.cycle(20)                                         # compile / load the caches
     t0 = time.perf_counter()
     m.cycle(steps)

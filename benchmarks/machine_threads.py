@@ -33,16 +33,8 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 def build(n_blocks, threads, base_load=False):
     """The bonded specimen of ``throughput.py`` as a model on ``threads`` threads, compiled
     (also ``two_threads.py``'s models)."""
-    from dem_core.contact.materials import Material
-    from dem_core.model import Model
-
-    from throughput import specimen
-    bs = specimen(n_blocks)
-    flaw = Material(kn=40e9, ks=20e9, tensile_strength=1.1e6, cohesion=1.2e6, friction=37)
-    m = Model(bs, {"flaw:*": flaw, "boundary:*": flaw}, density=1700, history_every=10**9,
-              threads=threads)
-    m.fix("base")
-    m.set_gravity(50.0)
+    from throughput import loaded, specimen
+    m = loaded(specimen(n_blocks), threads=threads)
     if base_load:                       # on the fixed base: moves nothing, two-region step
         m.apply_load("base", fy=-1e3)
     m.cycle(20)                                     # compile or load the cache

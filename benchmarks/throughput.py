@@ -33,19 +33,26 @@ def specimen(n_blocks, seed=0):
     return build_block_system(spec)
 
 
-def run(n_blocks, steps, seed=0, threads=1):
+def loaded(bs, **options):
+    """The Model of specimen ``bs`` as timed here: the thesis's plaster flaws, its base fixed,
+    50 g; ``options`` are Model options (``threads=2``, ...)."""
     from dem_core.contact.materials import Material
     from dem_core.model import Model
 
+    flaw = Material(kn=40e9, ks=20e9, tensile_strength=1.1e6, cohesion=1.2e6, friction=37)
+    m = Model(bs, {"flaw:*": flaw, "boundary:*": flaw}, density=1700, history_every=10**9,
+              **options)
+    m.fix("base")
+    m.set_gravity(50.0)
+    return m
+
+
+def run(n_blocks, steps, seed=0, threads=1):
     t0 = time.perf_counter()
     bs = specimen(n_blocks, seed)
     t_geom = time.perf_counter() - t0
-    flaw = Material(kn=40e9, ks=20e9, tensile_strength=1.1e6, cohesion=1.2e6, friction=37)
     t0 = time.perf_counter()
-    m = Model(bs, {"flaw:*": flaw, "boundary:*": flaw}, density=1700, history_every=10**9,
-              threads=threads)
-    m.fix("base")
-    m.set_gravity(50.0)
+    m = loaded(bs, threads=threads)
     t_setup = time.perf_counter() - t0
     m.cycle(20)                                       # warm-up (compile or load the cache)
     step0, searches0 = m.step, 0
