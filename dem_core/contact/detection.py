@@ -180,23 +180,25 @@ def _new_rows(p, s, cand, wv, margin, cut):
     vb = np.column_stack([cos_b * rel[:, 0] + sin_b * rel[:, 1],
                           -sin_b * rel[:, 0] + cos_b * rel[:, 1]])
     point_b = local[e] + ((vb - local[e]) * t).sum(axis=1)[:, None] * t   # projection
-    # length: half of A's two edges at the vertex, projected on B's edge and cut to it
+    # length: half of A's two edges at the vertex, projected on B's edge (with ``cut``, cut to it)
     prev = np.where(v - 1 >= off[A], v - 1, off[A + 1] - 1)
     nxt = np.where(v + 1 < off[A + 1], v + 1, off[A])
     ta = np.column_stack([cos_b * t[:, 0] - sin_b * t[:, 1],
                           sin_b * t[:, 0] + cos_b * t[:, 1]])  # world
     e1, e2 = wv[nxt] - wv[v], wv[prev] - wv[v]
     l1, l2 = np.hypot(*e1.T), np.hypot(*e2.T)
-    at = ((vb - local[e]) * t).sum(axis=1)          # the vertex along B's edge, 0..ln
-    L = np.zeros(len(cand))
-    for edge in (e1, e2):
-        along = (edge * ta).sum(axis=1)
-        lo, hi = np.minimum(at, at + along), np.maximum(at, at + along)
-        L += 0.5 * np.maximum(0.0, np.minimum(hi, ln) - np.maximum(lo, 0.0))
-    L = np.minimum(np.maximum(L, np.minimum(0.05 * (l1 + l2), margin)), ln)
-    if not cut:                # the lengths as made before the division (projected, not cut)
+    if cut:
+        at = ((vb - local[e]) * t).sum(axis=1)      # the vertex along B's edge, 0..ln
+        L = np.zeros(len(cand))
+        for edge in (e1, e2):
+            along = (edge * ta).sum(axis=1)
+            lo, hi = np.minimum(at, at + along), np.maximum(at, at + along)
+            L += 0.5 * np.maximum(0.0, np.minimum(hi, ln) - np.maximum(lo, 0.0))
+        floor = np.minimum(0.05 * (l1 + l2), margin)
+    else:                      # the lengths as made before the division (projected, not cut)
         L = 0.5 * (np.abs((e1 * ta).sum(axis=1)) + np.abs((e2 * ta).sum(axis=1)))
-        L = np.minimum(np.maximum(L, 0.05 * (l1 + l2)), ln)
+        floor = 0.05 * (l1 + l2)
+    L = np.minimum(np.maximum(L, floor), ln)
     return point_b, normal_b, L
 
 
