@@ -74,7 +74,8 @@ def run_schedule(sc, member: dict, locate) -> tuple:
     (run without the poses, the mechanism or None)."""
     from comparisons import staged
 
-    run = staged.stage_run(sc, member, poses=True)
+    # on after a failed schedule: the cohesion schedule and the post-failure steps belong to it
+    run = staged.stage_run(sc, member, poses=True, stop_on_failure=False)
     failed = any(s["failure"] is not None for s in run["searches"])
     mechanism = locate(run) if failed else None
     del run["poses"]                   # used up: keep the member's result small

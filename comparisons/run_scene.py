@@ -426,7 +426,8 @@ def run_prepared(scene, folder, path, vtk=False, progress=None, kept=None):
     stages finished by an earlier run (``load_stages``): the stages after them run. Inside a
     ``store.case_output`` the model and records are kept after each stage."""
     from dem_core.workflow.scene import build_model
-    from dem_core.workflow.stages import check_stages, run_stages
+    from dem_core.workflow.stages import (check_stages, moved_most, run_stages, stop_note,
+                                          stops)
 
     say = progress or (lambda message: None)
     keep = store.current()
@@ -444,14 +445,18 @@ def run_prepared(scene, folder, path, vtk=False, progress=None, kept=None):
     try:
         check_stages(scene.stages, set(model.blocks.groups), model.materials)
         for i in range(len(records), len(scene.stages)):
-            stage_start[0] = time.perf_counter()
-            rec = run_stages(model, [scene.stages[i]],
+            stage_start[0], before = time.perf_counter(), model.state.pos.copy()
+            rec = run_stages(model, [scene.stages[i]], after_failure="continue",
                              on_level=lambda j, st, m, r, i=i: level_done(i, st, m, r))[0]
             rec = dataclasses.replace(rec, index=i)
             records.append(rec)
             say(f"stage {i} {rec.kind}: {rec.verdict}, {rec.steps} steps, {rec.seconds:.1f} s")
             if keep is not None:
                 _save_stages(keep, model, records)
+            if scene.after_failure == "stop" and stops(rec):
+                rec.detail["stopped"] = stop_note(rec, scene.stages, moved_most(model, before))
+                say(rec.detail["stopped"])
+                break
     except Exception as e:          # kept in the outputs with the stages before it
         error = e
     write_outputs(folder, scene, path, model, records, error, time.perf_counter() - t0, vtk)

@@ -23,11 +23,12 @@ runs it (``dem_core.workflow.stages.run_stages``), reports progress per stage an
 - ``picture``: ``dem_core.output.plot.block_picture`` of the final state (the failed state when the
   search failed), with those cracks and the joints.
 
-``stop_on_failure=True`` ends the run after the first stage whose verdict is "failed" (a solve
-with ``failure_displacement`` that did not come to equilibrium, or a search that failed), so an
-"excavate until failure" sequence (Excavate, Solve, Excavate, Solve, ...) costs only the stages
-up to its critical height; ``stages`` then lists only the stages that ran (the index of each is
-its place in the scene's list).
+``stop_on_failure`` (default: the scene's ``after_failure``, "stop" unless the scene says
+"continue") ends the run after the first stage that leaves the model failed or undecided
+(``dem_core.workflow.stages.stops``: a solve that did not come to equilibrium, or a search that
+failed), so an "excavate until failure" sequence (Excavate, Solve, Excavate, Solve, ...) costs
+only the stages up to its critical height; ``stages`` then lists only the stages that ran (the
+index of each is its place in the scene's list).
 
 A member is a plain dict (``label``, ``params`` and anything the case's member function reads);
 inside a case run ``store`` keeps each finished member, so a stopped sweep loses only the
@@ -55,14 +56,15 @@ _SEARCH_KEYS = ("search", "ramp")
 _PLANS = ("values", "f_levels", "g_levels")
 
 
-def stage_run(sc, member: dict, crack_materials=INTACT, stop_on_failure=False,
+def stage_run(sc, member: dict, crack_materials=INTACT, stop_on_failure=None,
               poses=False, **model_options) -> dict:
     """Build the DEM model of scene ``sc`` and run its stages (module docstring). ``member``:
     the sweep member (``label``, ``params``; ``threads`` optional, capped at numba's;
     ``solver`` optional: Model options over the scene's, e.g. ``{"step_estimate": "eigen"}``,
     the case's ``solver`` setting; ``settle`` optional: True stops every solve and every level
     of a search that can settle early once settled, ``settled_stages``).
-    ``stop_on_failure``: end after the first failed stage (module docstring).
+    ``stop_on_failure``: end after the first failed stage (module docstring; None: the
+    scene's ``after_failure``).
     ``poses``: also return ``poses``, the blocks' (pos (nb, 2) m, theta (nb,) rad) after each
     stage that ran, as arrays (e.g. what moved during one stage).
     ``model_options`` override the scene's solver (``build_model``)."""
@@ -87,10 +89,9 @@ def stage_run(sc, member: dict, crack_materials=INTACT, stop_on_failure=False,
                elapsed=time.perf_counter() - t0)
 
     stages = settled_stages(sc.stages) if member.get("settle") else sc.stages
-    if stop_on_failure:
-        out_records = _until_failure(model, stages, on_stage, on_level)
-    else:
-        out_records = run_stages(model, stages, progress=on_stage, on_level=on_level)
+    stop = sc.after_failure == "stop" if stop_on_failure is None else stop_on_failure
+    out_records = run_stages(model, stages, progress=on_stage, on_level=on_level,
+                             after_failure="stop" if stop else "continue")
     log = model.crack_log()
     keep = np.array([str(m).startswith(tuple(crack_materials)) for m in log["material"]],
                     bool)
@@ -122,21 +123,6 @@ def settled_stages(stages) -> list:
             if dataclasses.is_dataclass(st) and
             any(f.name == "settle" for f in dataclasses.fields(st)) else st
             for st in stages]
-
-
-def _until_failure(model, stages, on_stage, on_level) -> list:
-    """``run_stages`` one stage at a time (each checked against the model as it is then),
-    stopping after the first stage whose verdict is "failed"; the records keep each stage's
-    index in ``stages``."""
-    records = []
-    for i, st in enumerate(stages):
-        rec = run_stages(model, [st], on_level=lambda _, s, m, r, i=i: on_level(i, s, m, r))[0]
-        records.append(dataclasses.replace(rec, index=i))
-        on_stage(f"stage {i} {rec.kind}: {rec.verdict}, {rec.steps} steps, "
-                 f"{rec.seconds:.1f} s")
-        if rec.verdict == "failed":
-            break
-    return records
 
 
 def _search(records) -> dict | None:

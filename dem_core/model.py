@@ -40,6 +40,7 @@ from .step.threads import parallel
 from .step.timestep import choose_timestep
 from .step.world import Parts, World
 from .units import STANDARD_GRAVITY
+from .workflow.response import measure_response
 from .workflow.solve import solve
 from .workflow.water import WaterTable
 
@@ -85,6 +86,7 @@ class Model:
                                                  self.group)
         self.kinetic = np.zeros(3)             # Integrator.kinetic: kinetic-damping memory
         self.search_enabled = True
+        self.response_steps = None             # N_r, steps (workflow.response), once measured
         self.gravity = np.zeros(2)             # m/s^2 (components.Gravity)
         self.load = np.zeros((blocks.n_blocks, 3))   # N/m, N m/m per block (components.Loads)
         self.servo_groups = []                 # (blocks, params row) (components.Servo)
@@ -247,6 +249,7 @@ class Model:
         if self.water is not None:
             self.water_faces = exposed_faces(self.blocks, p.active)
         self.update_timestep()
+        self.response_steps = None      # a new structure: its response time is measured anew
 
     def install(self, item):
         """Install support: a ``support.Cable`` (or bolt) or ``support.Liner``, or a list of
@@ -380,6 +383,12 @@ class Model:
         ``SolveSettings`` and/or its fields as keywords (``ratio=1e-5, max_steps=50_000``)."""
         st = (settings or SolveSettings()).replace(**changes).validated()
         return solve(self, st, check_every=check_every, trace=trace)
+
+    def measure_response(self, watch=()) -> int:
+        """Measure and keep the model's response time N_r in steps (``workflow.response``),
+        the window of a ``judge="response"`` solve; the model is left as it was."""
+        self.response_steps = measure_response(self, tuple(watch))
+        return self.response_steps
 
     def search(self):
         """Contact search now (``contact.update.search_contacts``)."""

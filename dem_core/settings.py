@@ -16,10 +16,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["SolverOptions", "SolveSettings", "STEP_ESTIMATES", "SCENE_SOLVER_KEYS", "per_block",
-           "search_margin", "new_contact_material", "material_names"]
+__all__ = ["SolverOptions", "SolveSettings", "STEP_ESTIMATES", "JUDGES", "SCENE_SOLVER_KEYS",
+           "per_block", "search_margin", "new_contact_material", "material_names"]
 
 STEP_ESTIMATES = ("bound", "eigen")     # how the critical step is found
+JUDGES = ("budget", "response")         # how a solve's verdict is found (SolveSettings.judge)
 
 
 def _whole(v) -> bool:
@@ -145,6 +146,14 @@ class SolveSettings:
         points).
     watch : history-point names judged instead of every block (empty: every block).
     settle : stop early as "settled" once the motion has died out (``monitor.settled``).
+    judge : "budget" (today's default): the verdict at ``max_steps`` ("equilibrium", "settled",
+        "moving" or "failed", ``output.monitor``); "response": "equilibrium", "failing" or
+        "undecided", judged over windows of the model's measured response time N_r, with no
+        step budget in the answer (``workflow.response``; ``max_steps`` is then not used).
+    response_steps : N_r in steps for ``judge="response"`` (None: the model's, measured at
+        its first judged solve, ``workflow.response.measure_response``).
+    windows : the cap of a ``judge="response"`` solve, in windows of N_r: a solve that has
+        neither come to rest nor shown a mechanism by then is "undecided".
     """
 
     ratio: float = 1e-5
@@ -153,6 +162,9 @@ class SolveSettings:
     creep: float | None = None
     watch: tuple = ()
     settle: bool = False
+    judge: str = "budget"
+    response_steps: int | None = None
+    windows: int = 20
 
     def validated(self, where="solve") -> "SolveSettings":
         """Itself, after checking each setting (ValueError naming ``where`` and the value)."""
@@ -170,6 +182,14 @@ class SolveSettings:
             raise ValueError(f"{where}: creep must be >= 0 m, got {self.creep!r}")
         if not isinstance(self.settle, bool):
             raise ValueError(f"{where}: settle must be true or false, got {self.settle!r}")
+        if self.judge not in JUDGES:
+            raise ValueError(f"{where}: judge must be one of {JUDGES}, got {self.judge!r}")
+        n_r = self.response_steps
+        if n_r is not None and not (_whole(n_r) and n_r > 0):
+            raise ValueError(f"{where}: response_steps must be a whole number > 0, got {n_r!r}")
+        if not (_whole(self.windows) and self.windows >= 2):
+            raise ValueError(f"{where}: windows must be a whole number >= 2, got "
+                             f"{self.windows!r}")
         return self
 
     def replace(self, **changes) -> "SolveSettings":

@@ -328,4 +328,5 @@ def scene(p: LornexParams, with_stages: bool = True) -> Scene:
                  boundaries=[Boundary("base"), Boundary("sides", x=True, y=False,
                                                         rotation=False)],
                  points=monitoring_points(), stages=stages(p) if with_stages else [],
-                 solver=solver, name="lornex")
+                 solver=solver, name="lornex",
+                 after_failure="continue")   # the mine went on; Table 6.4 is read at the end

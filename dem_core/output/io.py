@@ -43,8 +43,8 @@ FORMAT = 3
 RUNNING = ("props", "state", "contacts", "cracks", "materials", "table", "gravity", "load",
            "servo_groups", "time", "step", "dt", "critical_dt", "kinetic", "history",
            "points", "search_enabled", "water", "water_faces", "cables", "liners",
-           "zone_state")
-_CLOCK = ("time", "step", "dt", "critical_dt", "search_enabled")
+           "zone_state", "response_steps")
+_CLOCK = ("time", "step", "dt", "critical_dt", "search_enabled", "response_steps")
 
 _BS_ARRAYS = ("vertices", "vertex_offsets", "centroid", "area", "region_id", "edge_p0",
               "edge_p1", "edge_block_a", "edge_block_b", "edge_normal", "edge_length",
@@ -157,7 +157,9 @@ def read_model(path, material, water_table) -> dict:
     a = parts["arrays"]
     options = SolverOptions(**meta["options"], block_E=a["block_E"], block_nu=a["block_nu"])
     out = {"blocks": parts["blocks"], "options": options, "contacts": parts["contacts"],
-           **meta["clock"], "materials": {k: material(**v) for k, v in meta["materials"].items()},
+           "response_steps": None,              # not in files before it was measured
+           **meta["clock"],
+           "materials": {k: material(**v) for k, v in meta["materials"].items()},
            "servo_groups": parts["servo"], "points": parts["points"],
            "history": parts["history"]}
     out["table"] = material_table(meta["table_names"], out["materials"], options.unbreakable)

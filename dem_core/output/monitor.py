@@ -39,7 +39,7 @@ from ..contact.detection import block_containing
 from ..deformable import component as zone_kernels
 from ..deformable import held as zone_bc
 
-__all__ = ["unbalanced_ratio", "kinetic_energy", "strain_energy", "History", "verdict",
+__all__ = ["FAILED", "unbalanced_ratio", "kinetic_energy", "strain_energy", "History", "verdict",
            "settled", "settle_window", "SolveResult", "body_point", "point_motion", "model_ratio",
            "model_kinetic_energy", "model_strain_energy", "gravity_energy", "crack_log",
            "crack_counts", "diagnose", "history_row"]
@@ -130,9 +130,12 @@ class History:
 class SolveResult:
     """What ``Model.solve`` found.
 
-    verdict : "equilibrium", "settled" (stopped early by ``settled``), "moving" or "failed".
+    verdict : "equilibrium", "settled" (stopped early by ``settled``), "moving" or "failed"
+    (``judge="budget"``); "equilibrium", "failing" or "undecided" (``judge="response"``,
+    ``workflow.response``).
     steps : steps taken; ratio : the final unbalanced ratio; max_displacement : m, the largest
-    block displacement during the solve; reason : one line that explains the verdict.
+    block displacement during the solve; reason : one line that explains the verdict;
+    response_steps : the N_r the verdict was judged over (None with ``judge="budget"``).
     """
 
     verdict: str
@@ -140,9 +143,13 @@ class SolveResult:
     ratio: float
     max_displacement: float
     reason: str
+    response_steps: int | None = None
 
     def __bool__(self):
         return self.verdict == "equilibrium"
+
+
+FAILED = ("failed", "failing")      # the verdicts of a solve that did not stand
 
 
 def verdict(steps, displacements, creep, slow_down=0.8):

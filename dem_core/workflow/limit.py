@@ -43,7 +43,7 @@ from pathlib import Path
 import numpy as np
 
 from ..model import Model, ModelUnstable
-from ..output.monitor import SolveResult, verdict
+from ..output.monitor import FAILED, SolveResult, verdict
 from ..settings import SolveSettings
 
 __all__ = ["LimitRecord", "search_failure", "check_levels", "save_resumable", "load_resumable",
@@ -65,7 +65,9 @@ class LimitRecord:
     blowups : [level, message] of levels at which the model blew up *after* it had started to
     fail (recorded "failed"; the search goes on from the last stable state). Levels run by
     ``refine_to`` (bisection, then the closing steps) are appended in the order they were run;
-    ``refined`` holds their number.
+    ``refined`` holds their number. undecided_level : the level judged "undecided"
+    (``judge="response"``: neither at rest nor failing within the cap), at which the search
+    stopped with no failure level; response_steps : the N_r its levels were judged over.
     """
 
     parameter: str = "level"
@@ -82,13 +84,15 @@ class LimitRecord:
     seconds: float = 0.0
     unstable: str | None = None
     blowups: list = field(default_factory=list)
+    undecided_level: float | None = None
+    response_steps: int | None = None
 
     def resumable(self) -> bool:
         """True when a search can go on from the model as it is now with this record (module
         docstring): some level was run, all stood, none was bisected."""
         return (bool(self.level) and self.refined == 0 and self.unstable is None
-                and not self.blowups and all(v not in ("failed", "unstable")
-                                             for v in self.verdict))
+                and not self.blowups and self.undecided_level is None
+                and all(v not in ("failed", "failing", "unstable") for v in self.verdict))
 
 
 def check_levels(levels, name="levels", positive=True) -> np.ndarray:
@@ -128,24 +132,31 @@ def search_failure(model, levels, apply, settings=None, *, record=None, progress
         a resumable state, module docstring, or to write VTK files).
     """
     st = (settings or SolveSettings()).replace(**changes).validated("search")
+    if st.judge == "response" and st.response_steps is None:     # one N_r for every level
+        st = st.replace(response_steps=model.response_steps or
+                        model.measure_response(st.watch))
     levels = check_levels(levels, "levels", positive=False)
     if refine_to is not None:
         if not (np.isfinite(refine_to) and refine_to > 0):
             raise ValueError(f"refine_to must be finite and > 0, got {refine_to}")
     rec = record if record is not None else LimitRecord()
+    rec.response_steps = st.response_steps
     t0 = time.perf_counter()
     now = float(levels[0] if start is None else start)
     stable_state = model.snapshot() if refine_to is not None else None
     running = [now, 0]                  # the level being run and its first step (unstable)
 
     def level(frm, to):
+        """Run and record one level; True if it failed, None if undecided, else False."""
         running[:] = [to, model.step]
         apply(model, frm, to)
         failed, res = _judge(model, rec, to, st, progress)
         _record(rec, model, to, res, failed, progress)
+        if res.verdict == "undecided":
+            rec.undecided_level = float(to)
         if on_level is not None:
             on_level(model, rec)
-        return failed
+        return None if res.verdict == "undecided" else failed
 
     try:
         _levels(rec, model, level, levels, now, refine_to, stable_state, start)
@@ -161,6 +172,8 @@ def _levels(rec, model, level, levels, now, refine_to, stable_state, start):
     for v in levels:
         failed = level(now, float(v))
         frm_failed, now = now, float(v)
+        if failed is None:                      # undecided: no answer beyond this level
+            return
         if failed:
             rec.failure_level = float(v)
             break
@@ -191,7 +204,7 @@ def _judge(model, rec, value, settings, progress):
         rec.blowups.append([float(value), str(error)])
         if progress:
             progress(f"{rec.parameter} = {value:.4g}: the failing model blew up: {error}")
-    failed = res.verdict == "failed" or (fd is not None and res.max_displacement > fd)
+    failed = res.verdict in FAILED or (fd is not None and res.max_displacement > fd)
     return failed, res
 
 
@@ -205,12 +218,18 @@ def _bisect(rec, model, level, stable_state, refine_to, low, jump):
         mid = 0.5 * (low + rec.failure_level)
         model.restore(stable_state)
         rec.refined += 1
-        if level(low, mid):
+        failed = level(low, mid)
+        if failed is None:              # undecided: the bracket stays as it is
+            break
+        if failed:
             rec.failure_level, jump = mid, abs(mid - low)
             failed_state = model.snapshot()
         else:
             low = rec.last_stable_level = mid
             stable_state = model.snapshot()
+    if rec.undecided_level is not None:
+        model.restore(failed_state)
+        return 0.0
     model.restore(stable_state if jump > refine_to * (1 + 1e-9) else failed_state)
     return jump
 
@@ -224,7 +243,10 @@ def _march(rec, model, level, step, low, end):
     while sign * (end - low) > 1e-12 * max(1.0, abs(end)):
         v = low + sign * min(step, abs(end - low))
         rec.refined += 1
-        if level(low, v):
+        failed = level(low, v)
+        if failed is None:
+            return
+        if failed:
             rec.failure_level = v
             return
         low = rec.last_stable_level = v
@@ -242,7 +264,8 @@ def _record_points_and_cracks(rec, model):
 
 def _record(rec, model, value, res, failed, progress):
     rec.level.append(float(value))
-    rec.verdict.append("failed" if failed else res.verdict)
+    rec.verdict.append(res.verdict if res.verdict in FAILED else
+                       "failed" if failed else res.verdict)
     rec.steps.append(res.steps)
     rec.max_displacement.append(res.max_displacement)
     _record_points_and_cracks(rec, model)

@@ -35,7 +35,7 @@ from ..geometry.regions import check_fields, check_keys
 from ..settings import SCENE_SOLVER_KEYS, SolverOptions
 from ..contact.materials import Material, material_for, material_table
 from ..deformable.zone_plasticity import new_keys
-from .stages import STAGE_KINDS, check_stages, stage_from_dict, stage_to_dict
+from .stages import AFTER_FAILURE, STAGE_KINDS, check_stages, stage_from_dict, stage_to_dict
 
 __all__ = ["Scene", "Boundary", "build_model", "conventional", "resolve_groups", "group_sides",
            "GROUP_SELECTORS"]
@@ -43,11 +43,12 @@ __all__ = ["Scene", "Boundary", "build_model", "conventional", "resolve_groups",
 GROUP_SELECTORS = ("touching", "region", "inside", "union", "minus")
 SIDES = ("bottom", "top", "left", "right")
 _SCENE_KEYS = {"name", "description", "geometry", "materials", "density", "block_E",
-               "block_nu", "groups", "boundaries", "points", "stages", "solver"}
+               "block_nu", "groups", "boundaries", "points", "stages", "solver",
+               "after_failure"}
 # the kind of each top-level value of a scene file (``Scene.from_dict``)
 _SCENE_KINDS = {"name": str, "description": str, "materials": dict, "groups": dict,
                 "boundaries": list, "points": dict, "stages": list, "solver": dict,
-                "geometry": dict}
+                "geometry": dict, "after_failure": str}
 # Model options a scene may set: the SolverOptions fields but the block moduli (the scene's
 # own top-level keys)
 SOLVER_KEYS = set(SCENE_SOLVER_KEYS)
@@ -71,7 +72,9 @@ class Scene:
     materials "flaw:<region>", "joint:<name>", "boundary:<A>|<B>"). density : kg/m^3.
     block_E, block_nu : block modulus (Pa, None: rigid) and Poisson ratio. groups : name ->
     selector. boundaries : list of Boundary. points : name -> (x, y) m. stages : stage records
-    (``stages.py``). solver : Model options (``SOLVER_KEYS``).
+    (``stages.py``). solver : Model options (``SOLVER_KEYS``). after_failure : "stop" (the
+    stages after one that leaves the model failed or undecided do not run,
+    ``stages.run_stages``) or "continue".
     """
 
     geometry: GeometrySpec
@@ -86,6 +89,7 @@ class Scene:
     solver: dict = field(default_factory=dict)
     name: str = "scene"
     description: str = ""
+    after_failure: str = "stop"
 
     def __post_init__(self):
         self.boundaries = [b if isinstance(b, Boundary) else _boundary(b, i)
@@ -107,6 +111,9 @@ class Scene:
             _positive("block_E (Pa)", self.block_E)
         if not (_number(self.block_nu) and -1.0 < float(self.block_nu) < 0.5):
             raise ValueError(f"block_nu must be a number in (-1, 0.5), got {self.block_nu!r}")
+        if self.after_failure not in AFTER_FAILURE:
+            raise ValueError(f"after_failure must be one of {AFTER_FAILURE}, got "
+                             f"{self.after_failure!r}")
         check_keys(self.solver, SOLVER_KEYS, "solver")
         check_fields(self.solver, SolverOptions, "solver", partial=True)
         for name in contact_material_names(self.geometry):
@@ -150,7 +157,8 @@ class Scene:
                 "groups": self.groups,
                 "boundaries": [dataclasses.asdict(b) for b in self.boundaries],
                 "points": {k: list(v) for k, v in self.points.items()},
-                "stages": [stage_to_dict(s) for s in self.stages], "solver": self.solver}
+                "stages": [stage_to_dict(s) for s in self.stages], "solver": self.solver,
+                "after_failure": self.after_failure}
 
     @classmethod
     def from_dict(cls, d: dict) -> "Scene":
@@ -177,7 +185,8 @@ class Scene:
                    points=d.get("points", {}),
                    stages=[_stage(s, i) for i, s in enumerate(d.get("stages", []))],
                    solver=d.get("solver", {}), name=d.get("name", "scene"),
-                   description=d.get("description", ""))
+                   description=d.get("description", ""),
+                   after_failure=d.get("after_failure", "stop"))
 
     def save(self, path) -> None:
         """Write the scene as readable JSON."""

@@ -11,6 +11,9 @@ Checked every ``check_every`` steps (default: the history interval, at least 100
 - at ``max_steps``: "failed" if the displacement is still growing without slowing down, else
   "moving" (``monitor.verdict``).
 
+That is ``judge="budget"``; with ``judge="response"`` the verdict is "equilibrium", "failing"
+or "undecided", judged over windows of the model's response time (``workflow.response``).
+
 The displacement judged is the largest of the active blocks' since the solve began, or of the
 history points ``watch`` (so a loose block at a boundary does not count as the failure of the
 slope). ``creep`` (m): increments below it are not movement in the end test; default 1e-3 of
@@ -21,8 +24,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..output import monitor
+from . import response
 
-__all__ = ["solve"]
+__all__ = ["solve", "response_steps"]
 
 
 def solve(model, settings, check_every=None, trace=None) -> monitor.SolveResult:
@@ -39,6 +43,9 @@ def solve(model, settings, check_every=None, trace=None) -> monitor.SolveResult:
     moved = _mover(model, st.watch)
     what = "a watched point" if st.watch else "a block"
     steps, disp = trace if trace is not None else ([0], [0.0])
+    if st.judge == "response":
+        return response.judge(model, st, response_steps(model, st, check), check, moved,
+                              (steps, disp))
     cracks = [int(model.cracks.count[0])]
     done, r = 0, float("inf")
     while done < st.max_steps:
@@ -60,6 +67,15 @@ def solve(model, settings, check_every=None, trace=None) -> monitor.SolveResult:
             return monitor.SolveResult("settled", done, r, max(disp), monitor.SETTLED)
     v, why = monitor.verdict(steps, disp, creep)
     return monitor.SolveResult(v, done, r, max(disp), why)
+
+
+def response_steps(model, settings, check) -> int:
+    """N_r for a judged solve: the settings', else the model's, else measured now and kept
+    with the model (``response.measure_response``), at least two checks."""
+    n_r = settings.response_steps or model.response_steps
+    if n_r is None:
+        n_r = model.response_steps = response.measure_response(model, settings.watch, check)
+    return max(int(n_r), 2 * check)
 
 
 def _mover(model, watch):

@@ -32,17 +32,20 @@ import math
 import time
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from ..settings import DEFAULT_SOLVE, SolveSettings
 from .insitu import InSitu
 from .loading import Displace, Load, ServoLoad
 from ..contact.materials import Material
-from .strength import FactorOfSafety, StrengthSchedule
+from .strength import FactorOfSafety, StrengthSchedule, search_verdict
 from ..components.support import Cable, Liner
 from .water import WaterTable
 
 __all__ = ["Gravity", "Solve", "Cycle", "RaiseGravity", "Excavate", "ChangeMaterial",
            "PrescribeVelocity", "Release", "ServoLoad", "Load", "InSitu", "Displace",
-           "FactorOfSafety", "StrengthSchedule", "WaterTable", "Cable", "Liner", "StageRecord", "run_stages",
+           "FactorOfSafety", "StrengthSchedule", "WaterTable", "Cable", "Liner", "StageRecord",
+           "run_stages", "stops", "stop_note", "moved_most", "STOPS", "AFTER_FAILURE",
            "check_stages", "stage_from_dict", "stage_to_dict", "stage_table", "STAGE_KINDS"]
 
 
@@ -79,6 +82,9 @@ class Solve:
     max_steps: int = DEFAULT_SOLVE.max_steps
     failure_displacement: float | None = DEFAULT_SOLVE.failure_displacement
     settle: bool = DEFAULT_SOLVE.settle
+    judge: str = DEFAULT_SOLVE.judge
+    response_steps: int | None = DEFAULT_SOLVE.response_steps
+    windows: int = DEFAULT_SOLVE.windows
     creep: float | None = DEFAULT_SOLVE.creep
     watch: tuple = DEFAULT_SOLVE.watch
 
@@ -114,6 +120,9 @@ class RaiseGravity:
     watch: tuple = DEFAULT_SOLVE.watch
     refine_to: float | None = None
     settle: bool = DEFAULT_SOLVE.settle
+    judge: str = DEFAULT_SOLVE.judge
+    response_steps: int | None = DEFAULT_SOLVE.response_steps
+    windows: int = DEFAULT_SOLVE.windows
 
     def check(self, i, groups, materials):
         g = [float(v) for v in self.g_levels]
@@ -137,8 +146,7 @@ class RaiseGravity:
         if levels:
             rec = raise_gravity(model, levels, SolveSettings.of(self), refine_to=self.refine_to,
                                 on_level=on_level, record=rec, start=start)
-        verdict = "failed" if rec.failure_g is not None else (
-            "unstable" if rec.unstable else "stood")
+        verdict = search_verdict(rec)
         return int(sum(rec.steps)), verdict, {"failure_g": rec.failure_g,
                                               "last_stable_g": rec.last_stable_g,
                                               "g": list(rec.g), "verdicts": list(rec.verdict),
@@ -300,18 +308,57 @@ def stage_table(records, points=None) -> str:
     return "\n".join(rows)
 
 
-def run_stages(model, stages, progress=None, on_level=None) -> list:
-    """Run ``stages`` in order on ``model``; returns one StageRecord per stage. ``progress``:
-    optional callable(str), after each stage. ``on_level``: optional callable(index, stage,
-    model, record) after each level of a search stage (``raise_gravity``, ``factor_of_safety``,
-    ``strength_schedule``; ``record`` its ``limit.LimitRecord`` so far). A stage that raises
-    stops the run; the records of the finished stages are in the exception's ``records``
-    attribute. The stages are checked first (``check_stages``) against the model's groups and
-    materials."""
+STOPS = ("failed", "failing", "undecided", "unstable")     # a stage verdict that ends a run
+AFTER_FAILURE = ("stop", "continue")
+
+
+def stops(record) -> bool:
+    """Whether a stage that ended so leaves the model failed, or not known to stand: a solve
+    (or a load) "failed", "failing" or "undecided", a search that found its failure level (the
+    model is left in the failed state) or stopped undecided, a blow-up."""
+    return record.verdict in STOPS
+
+
+def stop_note(record, stages, moved) -> str:
+    """The line a run stopped by ``record`` ends with: which stage, its verdict and level, the
+    blocks that moved most in it (``moved``: their indices and displacements, m), and which
+    stages did not run."""
+    i, d = record.index, record.detail
+    level = next((f" at {k} = {d[k]:.4g}" for k in ("failure_g", "first_failed",
+                                                    "failure_value") if d.get(k) is not None),
+                 "")
+    blocks = ", ".join(f"{b} ({u:.3g} m)" for b, u in moved)
+    left = (f"stages {i + 1}..{len(stages) - 1} not run" if len(stages) > i + 2 else
+            f"stage {i + 1} not run" if len(stages) == i + 2 else "no stage after it")
+    return (f"stage {i} ({record.kind}) ended {record.verdict}{level}; moved most in it: "
+            f"blocks {blocks or 'none'}; {left} (after_failure: \"continue\" runs them)")
+
+
+def moved_most(model, before, n=5) -> list:
+    """The ``n`` active blocks that moved most since positions ``before`` (nb, 2):
+    [(block, displacement m)], largest first."""
+    u = np.hypot(*(model.state.pos - before).T) * (model.props.active > 0)
+    top = np.argsort(-u, kind="stable")[:n]
+    return [(int(b), float(u[b])) for b in top if u[b] > 0]
+
+
+def run_stages(model, stages, progress=None, on_level=None, after_failure="stop") -> list:
+    """Run ``stages`` in order on ``model``; returns one StageRecord per stage run.
+    ``progress``: optional callable(str), after each stage. ``on_level``: optional
+    callable(index, stage, model, record) after each level of a search stage
+    (``raise_gravity``, ``factor_of_safety``, ``strength_schedule``; ``record`` its
+    ``limit.LimitRecord`` so far). ``after_failure``: "stop" ends the run after a stage that
+    ``stops`` (its record's ``detail["stopped"]`` says which stage, at which level, which
+    blocks moved most and which stages did not run); "continue" runs every stage. A stage that
+    raises stops the run; the records of the finished stages are in the exception's
+    ``records`` attribute. The stages are checked first (``check_stages``) against the model's
+    groups and materials."""
+    if after_failure not in AFTER_FAILURE:
+        raise ValueError(f"after_failure must be one of {AFTER_FAILURE}, got {after_failure!r}")
     check_stages(stages, set(model.blocks.groups), model.materials)
     records = []
     for i, st in enumerate(stages):
-        t0 = time.perf_counter()
+        t0, before = time.perf_counter(), model.state.pos.copy()
         try:
             if on_level is not None and isinstance(st, _SEARCHES):
                 steps, verdict, detail = st.run(
@@ -327,4 +374,9 @@ def run_stages(model, stages, progress=None, on_level=None) -> list:
         records.append(rec)
         if progress is not None:
             progress(f"stage {i} {rec.kind}: {verdict}, {steps} steps, {rec.seconds:.1f} s")
+        if after_failure == "stop" and stops(rec):
+            rec.detail["stopped"] = stop_note(rec, stages, moved_most(model, before))
+            if progress is not None:
+                progress(rec.detail["stopped"])
+            break
     return records

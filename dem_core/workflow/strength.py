@@ -30,7 +30,7 @@ from dataclasses import dataclass
 from ..settings import DEFAULT_SOLVE, SolveSettings
 from .limit import LimitRecord, check_levels, search_failure
 
-__all__ = ["reduced_strength", "FactorOfSafety", "StrengthSchedule"]
+__all__ = ["search_verdict", "reduced_strength", "FactorOfSafety", "StrengthSchedule"]
 
 SCHEDULED = ("tensile_strength", "cohesion", "friction")
 
@@ -67,9 +67,17 @@ def _known_materials(where, names, materials):
                              f"{sorted(materials)}")
 
 
+def search_verdict(rec) -> str:
+    """A search stage's verdict from its ``LimitRecord``: "failed" (a failure level was found),
+    "unstable", "undecided" (it stopped at an undecided level) or "stood"."""
+    if rec.failure_level is not None:
+        return "failed"
+    return "unstable" if rec.unstable else "undecided" if rec.undecided_level is not None \
+        else "stood"
+
+
 def _detail(rec, last_key, first_key, what) -> tuple:
-    verdict = "failed" if rec.failure_level is not None else (
-        "unstable" if rec.unstable else "stood")
+    verdict = search_verdict(rec)
     return int(sum(rec.steps)), verdict, {last_key: rec.last_stable_level,
                                           first_key: rec.failure_level,
                                           what: list(rec.level),
@@ -93,6 +101,9 @@ class FactorOfSafety:
     creep: float | None = DEFAULT_SOLVE.creep
     watch: tuple = DEFAULT_SOLVE.watch
     settle: bool = DEFAULT_SOLVE.settle
+    judge: str = DEFAULT_SOLVE.judge
+    response_steps: int | None = DEFAULT_SOLVE.response_steps
+    windows: int = DEFAULT_SOLVE.windows
 
     def check(self, i, groups, materials):
         where = f"stage {i} (factor_of_safety)"
@@ -131,6 +142,9 @@ class StrengthSchedule:
     creep: float | None = DEFAULT_SOLVE.creep
     watch: tuple = DEFAULT_SOLVE.watch
     settle: bool = DEFAULT_SOLVE.settle
+    judge: str = DEFAULT_SOLVE.judge
+    response_steps: int | None = DEFAULT_SOLVE.response_steps
+    windows: int = DEFAULT_SOLVE.windows
 
     def check(self, i, groups, materials):
         where = f"stage {i} (strength_schedule)"

@@ -1,0 +1,166 @@
+"""The physics verdict of a solve (``SolveSettings(judge="response")``): "equilibrium",
+"failing" or "undecided", judged over windows of the model's measured response time, so that
+no step budget is in the answer.
+
+**Response time N_r** (steps; ``measure_response``). From a snapshot of the model, every
+contact is made elastic with no limit (its material glued, an open contact closed at zero
+stress where it is: the elastic model of the present configuration, so a model that is
+failing still has a response time), gravity is raised by ``LOAD_STEP`` (5 %) at once and the
+model is cycled with its own damping. At test
+points n_j (``FIRST`` checks, then each ``GROWTH`` = 1.25 times the one before) it has come to
+rest when the largest movement of a judged block (or watched point) since the test point
+before, ``max_i |x_i(n_j) - x_i(n_j-1)|``, is at most ``AT_REST`` (5 %) of the largest
+movement since the load step, at two test points in a row; N_r is the second. The model is
+then returned to the snapshot, bit for bit. For a response that approaches its end as
+``1 - exp(-n / tau)`` the test passes from n = 2.7 tau, so one window of N_r steps takes a
+load step's response to within about 5 % of its end. A model without gravity gets a step of
+1 % of 9.81 m/s^2 downwards. This is the quantity FLAC's ``solve fos`` measures before its
+search, with the strengths raised as here (Dawson, Roth & Drescher 1999, "Slope stability
+analysis by strength reduction", Geotechnique 49(6), 835-840): the steps a model needs to
+come to rest after a change of load. It is measured once, at a model's first judged solve (a
+search measures it before its first level), and kept with the model (``Model.response_steps``,
+saved in its file; an excavation clears it, the next judged solve measures it again).
+
+**Verdict.** The solve runs in windows of N_r steps, checked every ``check`` steps. With
+``move_k`` the largest movement of a judged block (or point) over window k and ``R_k`` the mean
+unbalanced ratio (``output.monitor``) over its checks:
+
+- "equilibrium": the ratio falls to ``ratio`` at a check; or, from the second window on, at
+  the end of a window in which no bond broke, ``move_k <= move_k-1 / 2`` (a movement that at
+  least halves every response time has at most ``move_k`` still to go, a geometric series,
+  so the model comes to rest within that of where it is) or ``move_k <= min(creep,
+  move_k-1)`` (a movement below ``creep`` that is not growing);
+- "failing": the judged displacement since the solve began passes ``failure_displacement``;
+  or, from the second window on, a mechanism: ``move_k > creep`` and ``move_k >= 0.8
+  move_k-1`` (the velocity does not decay over a response time) while ``R_k >= 0.9 R_k-1``
+  (the ratio stops falling: the test of Dawson et al. 1999);
+- "undecided": neither within ``windows`` windows. It is never counted as standing.
+
+``creep`` (m) defaults to 1e-3 of the median block radius (0 for watched points), per window.
+The verdict does not depend on the cap: a model that decides does so at the same window
+whatever ``windows`` is (tests/test_response_verdict.py).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..contact.materials import material_table
+from ..output import monitor
+
+__all__ = ["measure_response", "judge", "LOAD_STEP", "AT_REST", "GROWTH", "FIRST", "MOST"]
+
+LOAD_STEP = 0.05        # the gravity step of the measurement, of the model's gravity
+AT_REST = 0.05          # movement since the last test point / movement since the load step
+GROWTH = 1.25           # test points grow geometrically
+FIRST = 5               # checks before the first test point
+MOST = 400_000          # steps: a model that has not come to rest by then has this N_r
+SMALL_G = 0.0981        # m/s^2: the step of a model without gravity
+
+
+def positions(model, watch):
+    """The judged positions (k, 2), m: the active blocks' centroids or the watched points'
+    displacements."""
+    if watch:
+        return np.array([model.point_motion(n)[:2] for n in watch], dtype=float)
+    return model.state.pos[model.props.active > 0].copy()
+
+
+def _largest(a, b) -> float:
+    return float(np.hypot(*(a - b).T).max()) if a.size else 0.0
+
+
+def measure_response(model, watch=(), check=None) -> int:
+    """The model's response time N_r, steps (module docstring); the model is left as it was.
+    ``watch``: history points judged instead of the blocks; ``check``: steps between checks
+    (default the history interval, at least 100)."""
+    check = int(check or max(model.history.every, 100))
+    snap = model.snapshot()
+    try:
+        _elastic(model)
+        g = np.asarray(model.gravity, dtype=float)
+        model.gravity = g * (1 + LOAD_STEP) if np.hypot(*g) > 0 else g + (0.0, -SMALL_G)
+        start = positions(model, watch)
+        last, done, point, quiet = start, 0, FIRST * check, 0
+        while done < MOST:
+            model.cycle(point - done)
+            done = point
+            now = positions(model, watch)
+            total, recent = _largest(now, start), _largest(now, last)
+            quiet = quiet + 1 if recent <= AT_REST * total else 0
+            if quiet == 2:
+                break
+            last = now
+            point = min(MOST, check * int(np.ceil(GROWTH * point / check)))
+    finally:
+        model.restore(snap)
+    return int(done)
+
+
+def _elastic(model):
+    """Every contact elastic with no limit: the materials glued, open contacts closed at zero
+    elastic stress (the snapshot restores both)."""
+    model.table = material_table(model.table.names, model.materials, "*")
+    c = model.contacts
+    n = c.count[0]
+    np.maximum(c.sn_elastic[:n], 0.0, out=c.sn_elastic[:n])
+
+
+def judge(model, st, n_r, check, moved, trace) -> monitor.SolveResult:
+    """Run windows of ``n_r`` steps (checked every ``check``) until the verdict (module
+    docstring). ``st``: the solve's ``SolveSettings``; ``moved()``: the judged displacement
+    since the solve began (m); ``trace``: (steps, displacements) lists the checks append to."""
+    creep = st.creep if st.creep is not None else (
+        0.0 if st.watch else 1e-3 * float(np.median(model.props.radius)))
+    what = "a watched point" if st.watch else "a block"
+    steps, disp = trace
+    fd = st.failure_displacement
+    done, r, before = 0, float("inf"), None          # before: (move, mean ratio) of window k-1
+    for k in range(1, st.windows + 1):
+        start, cracks0, ratios = positions(model, st.watch), _cracks(model), []
+        while done < k * n_r:
+            n = min(check, k * n_r - done)
+            model.cycle(n)
+            done += n
+            r, d = model.unbalanced_ratio(), moved()
+            steps.append(done)
+            disp.append(d)
+            ratios.append(r)
+            if r <= st.ratio:
+                return _result("equilibrium", done, r, disp, n_r, f"ratio {r:.3g} <= "
+                               f"{st.ratio:.3g}")
+            if fd is not None and d > fd:
+                return _result("failing", done, r, disp, n_r, f"{what} moved {d:.3g} m > "
+                               f"{fd} m")
+        move, mean_r = _largest(positions(model, st.watch), start), float(np.mean(ratios))
+        broke = _cracks(model) - cracks0
+        verdict = _window_verdict(k, move, mean_r, broke, before, creep, n_r, what)
+        if verdict is not None:
+            return _result(verdict[0], done, r, disp, n_r, verdict[1])
+        before = (move, mean_r)
+    return _result("undecided", done, r, disp, n_r, f"neither at rest nor a mechanism after "
+                   f"{st.windows} windows of N_r = {n_r} steps (last window: {what} moved "
+                   f"{before[0]:.3g} m)")
+
+
+def _window_verdict(k, move, mean_r, broke, before, creep, n_r, what):
+    """(verdict, reason) at the end of window ``k``, or None to go on (module docstring)."""
+    if before is None:
+        return None
+    move0, ratio0 = before
+    if broke == 0 and (move <= 0.5 * move0 or move <= min(creep, move0)):
+        return "equilibrium", (f"coming to rest: {what} moved {move:.3g} m over window {k} "
+                               f"against {move0:.3g} m before (N_r = {n_r} steps, creep "
+                               f"{creep:.3g} m), no bond broke")
+    if move > creep and move >= 0.8 * move0 and mean_r >= 0.9 * ratio0:
+        return "failing", (f"a mechanism: {what} moved {move:.3g} m over window {k} against "
+                           f"{move0:.3g} m before (N_r = {n_r} steps) and the mean ratio "
+                           f"{mean_r:.3g} stopped falling ({ratio0:.3g} before)")
+    return None
+
+
+def _cracks(model) -> int:
+    return int(model.cracks.count[0])
+
+
+def _result(verdict, done, r, disp, n_r, reason) -> monitor.SolveResult:
+    return monitor.SolveResult(verdict, done, r, max(disp), reason, n_r)
