@@ -232,9 +232,9 @@ def ramp_status(rec, levels, elapsed: float, refine_to=None) -> tuple:
     stable level in ``refine_to`` steps (the level that will fail is not known)."""
     value, name, verdict = rec.level[-1], rec.parameter, rec.verdict[-1]
     per_level = elapsed / len(rec.level)
-    if verdict == "unstable":               # the search stops here
+    if verdict in ("unstable", "undecided"):     # the search stops here
         left = 0
-    elif rec.refined == 0 and verdict != "failed":
+    elif rec.refined == 0 and verdict not in ("failed", "failing"):
         left = sum(1 for v in levels if not _reached(v, value, levels))
     else:
         left = _halvings(rec, refine_to)
@@ -257,7 +257,7 @@ def _halvings(rec, refine_to):
     without ``refine_to``; None when no level has failed yet: the closing steps)."""
     if refine_to is None:
         return 0
-    failed = rec.verdict[-1] == "failed"
+    failed = rec.verdict[-1] in ("failed", "failing")
     high = rec.level[-1] if failed else rec.failure_level
     low = rec.last_stable_level if failed else rec.level[-1]
     if high is None:

@@ -308,6 +308,11 @@ def _search_text(stood, failed, levels, r, fmt, what, prefix, unit) -> str:
     failed (``fmt`` writes a level, ``what`` names the result, ``unit`` a level)."""
     levels = list(levels or [])
     steps = f"; {r.steps} steps"
+    if r.verdict == "undecided":
+        rec = r.detail.get("search") or r.detail.get("ramp")
+        last = "no level stood" if stood is None else f"the last that stood {prefix}{fmt(stood)}"
+        return (f"undecided at {prefix}{fmt(rec.undecided_level)}: neither at rest nor failing "
+                f"within the cap, no {what} ({last}){steps}")
     if r.verdict == "unstable":
         last = "no level stood" if stood is None else f"the last that stood {prefix}{fmt(stood)}"
         return f"the model became numerically unstable, no failure level ({last}){steps}"
@@ -341,6 +346,8 @@ def verdict_lines(records, error=None, stages=()) -> list:
     from dem_core.workflow.stages import stage_to_dict
 
     lines = [verdict_line(r) for r in records]
+    if records and "stopped" in records[-1].detail:
+        lines.append(records[-1].detail["stopped"])
     if error is not None:
         i = records[-1].index + 1 if records else 0
         kind = f" {stage_to_dict(stages[i])['kind']}" if i < len(stages) else ""
@@ -453,7 +460,7 @@ def run_prepared(scene, folder, path, vtk=False, progress=None, kept=None):
             say(f"stage {i} {rec.kind}: {rec.verdict}, {rec.steps} steps, {rec.seconds:.1f} s")
             if keep is not None:
                 _save_stages(keep, model, records)
-            if scene.after_failure == "stop" and stops(rec):
+            if scene.after_failure == "stop" and stops(rec) and i + 1 < len(scene.stages):
                 rec.detail["stopped"] = stop_note(rec, scene.stages, moved_most(model, before))
                 say(rec.detail["stopped"])
                 break

@@ -16,8 +16,8 @@ from dem_core.geometry import GeometrySpec
 from dem_core.geometry.regions import rectangle
 from dem_core.contact.materials import Material
 from dem_core.workflow.scene import Boundary, Scene, build_model
-from dem_core.workflow.stages import (Excavate, FactorOfSafety, Gravity, Solve, StageRecord,
-                                     WaterTable, run_stages, stage_table)
+from dem_core.workflow.stages import (ChangeMaterial, Excavate, FactorOfSafety, Gravity, Solve,
+                                      StageRecord, WaterTable, run_stages, stage_table)
 from comparisons.run_scene import verdict_line, verdict_lines
 
 TILT, PHI = 20.0, 30.0
@@ -86,6 +86,27 @@ def test_a_scene_file_runs_from_the_command_line_with_the_runners_numbers(tmp_pa
     assert out.strip().splitlines()[-4:] == ["Verdicts:"] + [f"  {v}" for v in verdicts]
     report = (folder / "report.md").read_text().splitlines()
     assert report[2:4] == ["## Verdicts", ""] and report[4:7] == [f"- {v}" for v in verdicts]
+
+
+def test_a_scene_stops_after_a_failing_solve_and_says_which_stage(tmp_path, capsys):
+    """Friction lowered below the tilt: the solve judged over the response time fails, and
+    the factor-of-safety stage after it does not run (the scene's after_failure "stop")."""
+    th = math.radians(TILT)
+    sc = tilted_block([Gravity(1.0, direction=(math.sin(th), -math.cos(th))),
+                       Solve(ratio=1e-6, max_steps=20_000),
+                       ChangeMaterial("*", {"friction": 0.5 * TILT}),
+                       Solve(judge="response", failure_displacement=0.05),
+                       FactorOfSafety(("*",), f_levels=(1.0, 1.25))])
+    path = tmp_path / "sliding.json"
+    sc.save(path)
+    assert cli.main(["run-scene", str(path), "--out", str(tmp_path / "out")]) == 0
+    out, _ = capsys.readouterr()
+    summary = json.loads((tmp_path / "out" / "tilted_block" / "summary.json").read_text())
+    assert [s["verdict"] for s in summary["stages"]] == ["set", "equilibrium", "changed",
+                                                         "failing"]
+    last = out.strip().splitlines()[-1]
+    assert last.startswith("  stage 3 (solve) ended failing; moved most in it: blocks 1 (")
+    assert last.endswith("stage 4 not run (after_failure: \"continue\" runs them)")
 
 
 def test_a_stage_that_raises_keeps_the_stages_before_it(tmp_path, capsys):

@@ -329,7 +329,7 @@ def stop_note(record, stages, moved) -> str:
                  "")
     blocks = ", ".join(f"{b} ({u:.3g} m)" for b, u in moved)
     left = (f"stages {i + 1}..{len(stages) - 1} not run" if len(stages) > i + 2 else
-            f"stage {i + 1} not run" if len(stages) == i + 2 else "no stage after it")
+            f"stage {i + 1} not run")
     return (f"stage {i} ({record.kind}) ended {record.verdict}{level}; moved most in it: "
             f"blocks {blocks or 'none'}; {left} (after_failure: \"continue\" runs them)")
 
@@ -348,7 +348,7 @@ def run_stages(model, stages, progress=None, on_level=None, after_failure="stop"
     callable(index, stage, model, record) after each level of a search stage
     (``raise_gravity``, ``factor_of_safety``, ``strength_schedule``; ``record`` its
     ``limit.LimitRecord`` so far). ``after_failure``: "stop" ends the run after a stage that
-    ``stops`` (its record's ``detail["stopped"]`` says which stage, at which level, which
+    ``stops``, when stages are left (its record's ``detail["stopped"]`` says which stage, at which level, which
     blocks moved most and which stages did not run); "continue" runs every stage. A stage that
     raises stops the run; the records of the finished stages are in the exception's
     ``records`` attribute. The stages are checked first (``check_stages``) against the model's
@@ -374,7 +374,7 @@ def run_stages(model, stages, progress=None, on_level=None, after_failure="stop"
         records.append(rec)
         if progress is not None:
             progress(f"stage {i} {rec.kind}: {verdict}, {steps} steps, {rec.seconds:.1f} s")
-        if after_failure == "stop" and stops(rec):
+        if after_failure == "stop" and stops(rec) and i + 1 < len(stages):
             rec.detail["stopped"] = stop_note(rec, stages, moved_most(model, before))
             if progress is not None:
                 progress(rec.detail["stopped"])

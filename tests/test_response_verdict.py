@@ -1,0 +1,141 @@
+"""The physics verdict of a solve (``judge="response"``, dem_core/workflow/response.py): a
+block on a plane at 0.98 and 1.02 of its limit friction, a block sliding steadily at its limit,
+an undecided level, and a stage list that stops where the model failed.
+
+The verdict must not move with the cap: the same verdict at the same step with 1x, 2x and 4x
+the default number of windows.
+"""
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from dem_core.contact.materials import Material
+from dem_core.geometry.simple_blocks import from_polygons
+from dem_core.model import Model
+from dem_core.settings import SolveSettings
+from dem_core.workflow.limit import search_failure
+from dem_core.workflow.stages import ChangeMaterial, Excavate, Solve, StrengthSchedule, run_stages
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+from scenes import block_on_plane, tilt  # noqa: E402  (benchmarks/scenes.py)
+
+THETA = 30.0                       # deg, the plane's dip (gravity tilted, base horizontal)
+WINDOWS = SolveSettings().windows  # the default cap, in windows of N_r
+
+
+def friction_at(factor):
+    """The friction angle (deg) at which the block's limit is ``factor`` of the plane's:
+    tan(phi) = tan(theta) / factor (factor < 1 stands, > 1 slides)."""
+    return math.degrees(math.atan(math.tan(math.radians(THETA)) / factor))
+
+
+def plane(factor, damping=0.8):
+    m = block_on_plane(friction_at(factor))
+    m.set_options(damping=damping)
+    tilt(m, THETA)
+    return m
+
+
+@pytest.mark.parametrize("factor, expected", [(0.98, "equilibrium"), (1.02, "failing")])
+def test_block_on_a_plane_gets_the_same_verdict_with_1x_2x_4x_the_cap(factor, expected):
+    results = [plane(factor).solve(judge="response", windows=WINDOWS * x) for x in (1, 2, 4)]
+    assert [r.verdict for r in results] == [expected] * 3
+    assert len({r.steps for r in results}) == 1          # decided at the same step
+    assert len({r.response_steps for r in results}) == 1
+    if expected == "failing":
+        # the block really slides: g (sin - cos tan phi) times (1 - damping) drives it
+        assert results[0].max_displacement > 0.0 and "mechanism" in results[0].reason
+
+
+@pytest.mark.parametrize("speed, expected", [(0.1, "failing"), (2e-4, "equilibrium")])
+def test_steady_slide_at_the_limit_same_verdict_at_1x_and_2x(speed, expected):
+    """At exactly its limit friction a block given a speed slides on at that speed: no
+    unbalanced force (the ratio test alone calls it equilibrium), but a mechanism when it
+    moves more than ``creep`` per response time; below that, creep that is not movement."""
+    out = []
+    for x in (1, 2):
+        m = plane(1.0)
+        m.state.vel[1] = (speed, 0.0)
+        out.append(m.solve(judge="response", windows=WINDOWS * x, creep=2e-3))
+    assert [r.verdict for r in out] == [expected] * 2
+    assert out[0].steps == out[1].steps
+
+
+def test_response_time_is_measured_without_changing_the_model():
+    m = plane(0.98)
+    m.cycle(100)
+    before = m.snapshot()
+    n_r = m.measure_response()
+    assert n_r > 0 and m.response_steps == n_r
+    for key in ("step", "time"):
+        assert m.snapshot()[key] == before[key]
+    assert np.array_equal(m.state.pos, before["state"].pos)
+    assert np.array_equal(m.state.vel, before["state"].vel)
+    assert np.array_equal(m.gravity, before["gravity"])
+
+
+def test_response_steps_is_saved_and_cleared_by_an_excavation(tmp_path):
+    m = toe_held_block()
+    n_r = m.measure_response()
+    m.save(tmp_path / "m.npz")
+    assert Model.load(tmp_path / "m.npz").response_steps == n_r
+    m.remove("toe")
+    assert m.response_steps is None
+
+
+@pytest.mark.parametrize("bad", [dict(judge="physics"), dict(windows=1),
+                                 dict(response_steps=0), dict(response_steps=2.5)])
+def test_bad_judge_settings_are_refused_by_name(bad):
+    with pytest.raises(ValueError, match=next(iter(bad))):
+        plane(0.98).solve(**bad)
+
+
+def test_an_undecided_level_is_reported_undecided_and_ends_the_search():
+    """Two windows cannot show a mechanism (it needs three), so a block that slides is
+    undecided at windows=2: the search stops there with no failure level, and never counts
+    the level as standing."""
+    m = plane(0.9)
+    values = [friction_at(f) for f in (0.95, 1.05, 1.2)]
+    rec = search_failure(m, values, lambda mm, a, b: mm.set_material("joint:*", friction=b),
+                         judge="response", windows=2, start=friction_at(0.9))
+    assert rec.verdict[0] == "equilibrium"
+    assert rec.verdict[1:] == ["undecided"]
+    assert rec.undecided_level == values[1] and rec.failure_level is None
+    assert rec.last_stable_level == values[0]
+    assert not rec.resumable()
+    st = StrengthSchedule("joint:*", "friction", tuple(values), judge="response", windows=2)
+    records = run_stages(plane(0.9), [st, ChangeMaterial("joint:*", {"friction": 40.0})])
+    assert [r.verdict for r in records] == ["undecided"]
+    assert "undecided" in records[0].detail["stopped"]
+    assert "stage 1 not run" in records[0].detail["stopped"]
+
+
+def toe_held_block():
+    """A block on a plane below its limit friction, held by a toe block downslope."""
+    bs = from_polygons([[(0, 0), (20, 0), (20, 1), (0, 1)],
+                        [(2, 1), (3, 1), (3, 1.5), (2, 1.5)],
+                        [(3, 1), (3.5, 1), (3.5, 1.5), (3, 1.5)]],
+                       edge_material="joint:base", groups={"base": [0], "block": [1],
+                                                           "toe": [2]})
+    m = Model(bs, {"joint:*": Material(kn=1e9, ks=1e9, friction=friction_at(1.05))},
+              density=2000, damping=0.8)
+    m.fix("base")
+    m.fix("toe")
+    tilt(m, THETA)
+    return m
+
+
+def test_a_stage_list_whose_excavation_fails_stops_there_and_says_so():
+    stages = [Solve(judge="response"), Excavate("toe"), Solve(judge="response"),
+              ChangeMaterial("joint:*", {"friction": 45.0}), Solve(judge="response")]
+    records = run_stages(toe_held_block(), stages)
+    assert [r.verdict for r in records] == ["equilibrium", "removed", "failing"]
+    note = records[-1].detail["stopped"]
+    assert "stage 2 (solve) ended failing" in note and "stages 3..4 not run" in note
+    assert "blocks 1 (" in note                      # the block that slid moved most
+    ran_on = run_stages(toe_held_block(), stages, after_failure="continue")
+    assert [r.verdict for r in ran_on] == ["equilibrium", "removed", "failing", "changed",
+                                           "equilibrium"]
