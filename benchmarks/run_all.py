@@ -42,7 +42,8 @@ so a crash in one does not stop the rest:
                      deformable blocks (about 3 min; docs/cases/checkerboard.md)
 - regression_numbers.py   prints the regression-guard numbers (does not rewrite the reference)
 - full only: continuum_scaling.py (slope and footing refinement), throughput.py --scaling,
-  column_bending.py (flexural strength of a Voronoi column against beam theory by block size)
+  column_bending.py (flexural strength of a Voronoi column against beam theory by block size),
+  verdict_budgets.py (every quick case member under both judges at 1x and 2x the cap)
 
 Moved to trials/ on 2026-11-29 (one-offs, their committed results the record):
 contact_pass_trials.py, million.py, numba_pipelines.py, deformable_ucs.py (quick);
@@ -66,7 +67,7 @@ import outdir  # noqa: E402
 TAKES_REFERENCE = {"error_vs_time.py", "stability_map.py", "critical_step_cost.py",
                    "leave_out.py", "support_cost.py", "deformable_cost.py", "performance.py",
                    "two_threads.py", "lab_resolution.py", "centrifuge_resolution.py",
-                   "gravity_box.py", "continuum_scaling.py"}
+                   "gravity_box.py", "continuum_scaling.py", "verdict_budgets.py"}
 
 
 def jobs(full: bool) -> list:
@@ -83,7 +84,8 @@ def jobs(full: bool) -> list:
            ["regression_numbers.py"]]
     if full:
         out += [["continuum_scaling.py"], ["throughput.py", "--scaling"],
-                ["column_bending.py", "--edges", "0.006", "0.004", "0.003"]]
+                ["column_bending.py", "--edges", "0.006", "0.004", "0.003"],
+                ["verdict_budgets.py"]]
     return out
 
 

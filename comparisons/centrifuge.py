@@ -87,7 +87,7 @@ def ramp_run(scene, params, member: dict, failure_displacement: float, creep: fl
 
     ``member`` holds ``label``, ``params`` (the plain dict of ``params``), ``g_levels``,
     ``max_steps`` and optionally ``settle`` (stop a level early once settled,
-    ``limit.search_failure``), ``threads``, ``damping`` and ``kinetic_damping`` (the solver,
+    ``limit.search_failure``), ``judge`` and ``windows`` (``SolveSettings``), ``threads``, ``damping`` and ``kinetic_damping`` (the solver,
     default ``DAMPING`` and ``KINETIC_DAMPING``), ``solver`` (further ``Model`` options over
     the scene's, e.g. ``{"edge_elements": True}``), ``refine_to`` (g: bisect the failure bracket
     to this width, ``raise_gravity``), ``vtk`` (a .vtu path: the model's state at the end of
@@ -110,7 +110,8 @@ def ramp_run(scene, params, member: dict, failure_displacement: float, creep: fl
     ramp = RaiseGravity(tuple(member["g_levels"]), ratio=1e-5, max_steps=member["max_steps"],
                         failure_displacement=failure_displacement, creep=creep,
                         watch=("A", "B"), refine_to=member.get("refine_to"),
-                        settle=bool(member.get("settle", False)))
+                        settle=bool(member.get("settle", False)),
+                        **{k: member[k] for k in ("judge", "windows") if k in member})
     sc = scene.scene(params, stages=[ramp])
     checkpoint = member.get("checkpoint")
     saved = load_resumable(checkpoint, RampRecord) if checkpoint else None
@@ -146,6 +147,7 @@ def ramp_run(scene, params, member: dict, failure_displacement: float, creep: fl
         "label": member["label"], "params": member["params"], "blocks": blocks.n_blocks,
         "contacts": int(model.contacts.n), "g": rec.g, "verdict": rec.verdict,
         "steps": int(np.sum(rec.steps)), "level_steps": [int(k) for k in rec.steps],
+        "measure_steps": int(getattr(model, "measured_steps", 0)),
         "failure_g": rec.failure_g,
         "last_stable_g": rec.last_stable_g, "refined_levels": rec.refined,
         "ux_A": rec.point_ux.get("A", []),

@@ -8,6 +8,7 @@ runs it (``dem_core.workflow.stages.run_stages``), reports progress per stage an
 (``comparisons.progress.report``, shown by the sweep), and returns:
 
 - ``label``, ``params`` (the member's, unchanged), ``blocks``, ``contacts``, ``runtime_s``,
+  ``measure_steps`` (the steps the response-time measurements ran, ``Model.measure_response``),
   ``critical_dt_start`` (s: the built model's critical step, ``Model.critical_dt``, before any
   stage);
 - ``stages``: per stage kind, verdict, steps, wall seconds, each monitoring point's (ux, uy) (m)
@@ -48,7 +49,7 @@ from dem_core.output.plot import block_picture
 from dem_core.workflow.scene import build_model
 from dem_core.workflow.stages import check_stages, run_stages
 
-__all__ = ["INTACT", "stage_run", "settled_stages", "search_rows", "history_figure",
+__all__ = ["INTACT", "stage_run", "settled_stages", "judged_stages", "search_rows", "history_figure",
            "coincident_rims", "curve_styles", "value_at_failure"]
 
 INTACT = ("flaw:", "boundary:")        # bonds through intact rock (not joints)
@@ -62,7 +63,8 @@ def stage_run(sc, member: dict, crack_materials=INTACT, stop_on_failure=None,
     the sweep member (``label``, ``params``; ``threads`` optional, capped at numba's;
     ``solver`` optional: Model options over the scene's, e.g. ``{"step_estimate": "eigen"}``,
     the case's ``solver`` setting; ``settle`` optional: True stops every solve and every level
-    of a search that can settle early once settled, ``settled_stages``).
+    of a search that can settle early once settled, ``settled_stages``; ``judge`` and
+    ``windows`` optional: every solve and search judged so, ``judged_stages``).
     ``stop_on_failure``: end after the first failed stage (module docstring; None: the
     scene's ``after_failure``).
     ``poses``: also return ``poses``, the blocks' (pos (nb, 2) m, theta (nb,) rad) after each
@@ -89,6 +91,8 @@ def stage_run(sc, member: dict, crack_materials=INTACT, stop_on_failure=None,
                elapsed=time.perf_counter() - t0)
 
     stages = settled_stages(sc.stages) if member.get("settle") else sc.stages
+    if "judge" in member:
+        stages = judged_stages(stages, member["judge"], member.get("windows"))
     stop = sc.after_failure == "stop" if stop_on_failure is None else stop_on_failure
     out_records = run_stages(model, stages, progress=on_stage, on_level=on_level,
                              after_failure="stop" if stop else "continue")
@@ -111,8 +115,19 @@ def stage_run(sc, member: dict, crack_materials=INTACT, stop_on_failure=None,
         "crack_material": [str(m) for m in np.asarray(log["material"])[keep]],
         "picture": block_picture(model, cracks=tuple(crack_materials), joints="joint:"),
         "runtime_s": time.perf_counter() - t0,
+        "measure_steps": int(getattr(model, "measured_steps", 0)),
         **({"poses": pose_log} if poses else {}),
     }
+
+
+def judged_stages(stages, judge, windows=None) -> list:
+    """The stages with ``judge`` (and ``windows``, if given) wherever a stage has that
+    setting (solves, g-ramps, strength searches; ``dem_core.settings.SolveSettings``)."""
+    changes = {"judge": judge, **({} if windows is None else {"windows": int(windows)})}
+    return [dataclasses.replace(st, **changes)
+            if dataclasses.is_dataclass(st) and
+            any(f.name == "judge" for f in dataclasses.fields(st)) else st
+            for st in stages]
 
 
 def settled_stages(stages) -> list:

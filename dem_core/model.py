@@ -388,6 +388,8 @@ class Model:
         """Measure and keep the model's response time N_r in steps (``workflow.response``),
         the window of a ``judge="response"`` solve; the model is left as it was."""
         self.response_steps = measure_response(self, tuple(watch))
+        # the steps run by measurements (each as many as the N_r it found), for cost reports
+        self.measured_steps = getattr(self, "measured_steps", 0) + self.response_steps
         return self.response_steps
 
     def search(self):

@@ -67,7 +67,9 @@ class LimitRecord:
     ``refine_to`` (bisection, then the closing steps) are appended in the order they were run;
     ``refined`` holds their number. undecided_level : the level judged "undecided"
     (``judge="response"``: neither at rest nor failing within the cap), at which the search
-    stopped with no failure level; response_steps : the N_r its levels were judged over.
+    stopped with no failure level; response_steps : the N_r each level was judged over
+    (``judge="response"``); measured : each N_r the search measured (before its first level
+    and after each level that stood), whose measurement cost as many steps.
     """
 
     parameter: str = "level"
@@ -85,7 +87,8 @@ class LimitRecord:
     unstable: str | None = None
     blowups: list = field(default_factory=list)
     undecided_level: float | None = None
-    response_steps: int | None = None
+    response_steps: list = field(default_factory=list)
+    measured: list = field(default_factory=list)
 
     def resumable(self) -> bool:
         """True when a search can go on from the model as it is now with this record (module
@@ -132,15 +135,17 @@ def search_failure(model, levels, apply, settings=None, *, record=None, progress
         a resumable state, module docstring, or to write VTK files).
     """
     st = (settings or SolveSettings()).replace(**changes).validated("search")
-    if st.judge == "response" and st.response_steps is None:     # one N_r for every level
-        st = st.replace(response_steps=model.response_steps or
-                        model.measure_response(st.watch))
+    remeasure = st.judge == "response" and st.response_steps is None
+    if remeasure and model.response_steps is None:
+        rec_measured = [model.measure_response(st.watch)]
+    else:
+        rec_measured = []
     levels = check_levels(levels, "levels", positive=False)
     if refine_to is not None:
         if not (np.isfinite(refine_to) and refine_to > 0):
             raise ValueError(f"refine_to must be finite and > 0, got {refine_to}")
     rec = record if record is not None else LimitRecord()
-    rec.response_steps = st.response_steps
+    rec.measured.extend(rec_measured)
     t0 = time.perf_counter()
     now = float(levels[0] if start is None else start)
     stable_state = model.snapshot() if refine_to is not None else None
@@ -152,8 +157,12 @@ def search_failure(model, levels, apply, settings=None, *, record=None, progress
         apply(model, frm, to)
         failed, res = _judge(model, rec, to, st, progress)
         _record(rec, model, to, res, failed, progress)
+        if res.response_steps is not None:
+            rec.response_steps.append(res.response_steps)
         if res.verdict == "undecided":
             rec.undecided_level = float(to)
+        elif remeasure and not failed:      # the next level from here: this structure's N_r
+            rec.measured.append(model.measure_response(st.watch))
         if on_level is not None:
             on_level(model, rec)
         return None if res.verdict == "undecided" else failed

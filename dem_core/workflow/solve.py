@@ -74,7 +74,7 @@ def response_steps(model, settings, check) -> int:
     with the model (``response.measure_response``), at least two checks."""
     n_r = settings.response_steps or model.response_steps
     if n_r is None:
-        n_r = model.response_steps = response.measure_response(model, settings.watch, check)
+        n_r = model.measure_response(settings.watch)
     return max(int(n_r), 2 * check)
 
 
