@@ -50,6 +50,26 @@ def test_block_on_a_plane_gets_the_same_verdict_with_1x_2x_4x_the_cap(factor, ex
         assert results[0].max_displacement > 0.0 and "mechanism" in results[0].reason
 
 
+@pytest.mark.parametrize("factor, expected", [(0.98, "equilibrium"), (1.02, "failing")])
+def test_a_watched_point_gets_the_blocks_verdict(factor, expected):
+    """A watched point at rest drifts by round-off only; it must not read as a mechanism
+    (a creep of 0 did), and a sliding one must."""
+    m = plane(factor)
+    m.add_history_point("top", (2.5, 1.4))
+    assert m.solve(judge="response", watch=("top",)).verdict == expected
+
+
+@pytest.mark.parametrize("factor, expected", [(0.98, "equilibrium"), (1.02, "failing")])
+def test_the_verdict_does_not_change_with_density_scaling(factor, expected):
+    """Mass scaling (every block's inertia scaled to one critical step) changes the path to
+    the answer, not the verdict."""
+    m = block_on_plane(friction_at(factor), mass_scaling=True)
+    m.set_options(damping=0.8)
+    tilt(m, THETA)
+    scaled = m.solve(judge="response")
+    assert scaled.verdict == plane(factor).solve(judge="response").verdict == expected
+
+
 @pytest.mark.parametrize("speed, expected", [(0.1, "failing"), (2e-4, "equilibrium")])
 def test_steady_slide_at_the_limit_same_verdict_at_1x_and_2x(speed, expected):
     """At exactly its limit friction a block given a speed slides on at that speed: no

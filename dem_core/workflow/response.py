@@ -55,7 +55,10 @@ read an oscillation's phase. What the test cannot tell apart: a motion that slow
 a fifth per response time (a block thrown along a plane, sliding to a stop over many response
 times) is "failing" while it lasts, as it is under the ratio test of FLAC.
 
-``creep`` (m) defaults to 1e-3 of the median block radius (0 for watched points), per window.
+``creep`` (m) defaults to 1e-3 of the median block radius, for blocks and watched points alike,
+per window, and is never less than ``REST`` = 1e-6 of it: below that a movement is round-off
+(a watched point at rest drifts by 1e-12 m a window, and a creep of 0 would call that a
+mechanism and never let a fast block count as slow).
 The verdict does not depend on the cap: a model that decides does so at the same window
 whatever ``windows`` is (tests/test_response_verdict.py).
 """
@@ -77,6 +80,7 @@ FIRST = 5               # checks before the first test point
 MOST = 400_000          # steps: a model that has not come to rest by then has this N_r
 SMALL_G = 0.0981        # m/s^2: the step of a model without gravity
 STRONG = 1e20           # Pa: the peak strengths of the measurement (no intact contact fails)
+REST = 1e-6             # of the median block radius: the least creep (movement below is noise)
 
 
 def positions(model, watch):
@@ -142,8 +146,8 @@ def judge(model, st, n_r, check, moved, trace) -> monitor.SolveResult:
     """Run windows of ``n_r`` steps (checked every ``check``) until the verdict (module
     docstring). ``st``: the solve's ``SolveSettings``; ``moved()``: the judged displacement
     since the solve began (m); ``trace``: (steps, displacements) lists the checks append to."""
-    creep = st.creep if st.creep is not None else (
-        0.0 if st.watch else 1e-3 * float(np.median(model.props.radius)))
+    size = float(np.median(model.props.radius))
+    creep = max(st.creep if st.creep is not None else 1e-3 * size, REST * size)
     what = "a watched point" if st.watch else "a block"
     steps, disp = trace
     fd = st.failure_displacement
