@@ -23,6 +23,13 @@ over a few hundred steps, much faster than a slender model's lowest period, so i
 overshoot grows with the step, and the answer is that of a search in ``refine_to`` steps
 (``gravity_ramp`` gives the measured case).
 
+With ``judge="response"`` (``workflow.response``) a level is "equilibrium", "failing" (a failed
+level) or "undecided": the search stops at an undecided level with no failure level
+(``LimitRecord.undecided_level``; a bisection keeps the bracket it had), since nothing beyond it
+can be judged from a state not known to stand. The model's response time N_r is measured before
+the first level (if the model has none) and again after each level that stood, so each level is
+judged over the response time of the structure the level before left.
+
 ``apply(model, level_from, level_to)`` moves the parameter (``gravity_ramp`` ramps g over a
 few hundred steps; ``strength`` changes the strength table at once, which moves no stress).
 
