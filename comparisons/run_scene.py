@@ -457,7 +457,7 @@ def run_prepared(scene, folder, path, vtk=False, progress=None, kept=None):
                              on_level=lambda j, st, m, r, i=i: level_done(i, st, m, r))[0]
             rec = dataclasses.replace(rec, index=i)
             records.append(rec)
-            say(f"stage {i} {rec.kind}: {rec.verdict}, {rec.steps} steps, {rec.seconds:.1f} s")
+            say(f"{verdict_line(rec)}, {rec.seconds:.1f} s")      # a search's F or g, not "failed"
             if keep is not None:
                 _save_stages(keep, model, records)
             if scene.after_failure == "stop" and stops(rec) and i + 1 < len(scene.stages):

@@ -61,6 +61,9 @@ def test_a_scene_file_runs_from_the_command_line_with_the_runners_numbers(tmp_pa
         assert s["time"] == r.time
         assert {k: tuple(v) for k, v in s["points"].items()} == r.points
     fos = records[2].detail["factor_of_safety"]
+    # the stage's own progress line gives its F, not a bare "failed"
+    assert re.search(rf"stage 2 factor_of_safety: factor of safety {fos:.2f} \(\d\.\d\d fails\); "
+                     rf"\d+ steps, [\d.]+ s", err)
     assert summary["stages"][2]["factor_of_safety"] == summary["results"]["factor_of_safety"] \
         == fos
     assert summary["results"]["first_failed"] == records[2].detail["first_failed"]
