@@ -433,8 +433,7 @@ def run_prepared(scene, folder, path, vtk=False, progress=None, kept=None):
     stages finished by an earlier run (``load_stages``): the stages after them run. Inside a
     ``store.case_output`` the model and records are kept after each stage."""
     from dem_core.workflow.scene import build_model
-    from dem_core.workflow.stages import (check_stages, moved_most, run_stages, stop_note,
-                                          stops)
+    from dem_core.workflow.stages import check_stages, run_stages, stop_after
 
     say = progress or (lambda message: None)
     keep = store.current()
@@ -460,8 +459,7 @@ def run_prepared(scene, folder, path, vtk=False, progress=None, kept=None):
             say(f"{verdict_line(rec)}, {rec.seconds:.1f} s")      # a search's F or g, not "failed"
             if keep is not None:
                 _save_stages(keep, model, records)
-            if scene.after_failure == "stop" and stops(rec) and i + 1 < len(scene.stages):
-                rec.detail["stopped"] = stop_note(rec, scene.stages, moved_most(model, before))
+            if stop_after(rec, scene.stages, model, before, scene.after_failure):
                 say(rec.detail["stopped"])
                 break
     except Exception as e:          # kept in the outputs with the stages before it

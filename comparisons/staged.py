@@ -49,8 +49,8 @@ from dem_core.output.plot import block_picture
 from dem_core.workflow.scene import build_model
 from dem_core.workflow.stages import check_stages, run_stages
 
-__all__ = ["INTACT", "stage_run", "settled_stages", "judged_stages", "search_rows", "history_figure",
-           "coincident_rims", "curve_styles", "value_at_failure"]
+__all__ = ["INTACT", "stage_run", "settled_stages", "judged_stages", "search_rows",
+           "history_figure", "coincident_rims", "curve_styles", "value_at_failure"]
 
 INTACT = ("flaw:", "boundary:")        # bonds through intact rock (not joints)
 _SEARCH_KEYS = ("search", "ramp")

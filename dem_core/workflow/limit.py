@@ -75,8 +75,7 @@ class LimitRecord:
     ``refined`` holds their number. undecided_level : the level judged "undecided"
     (``judge="response"``: neither at rest nor failing within the cap), at which the search
     stopped with no failure level; response_steps : the N_r each level was judged over
-    (``judge="response"``); measured : each N_r the search measured (before its first level
-    and after each level that stood), whose measurement cost as many steps.
+    (``judge="response"``; the measurements' steps: ``Model.measured_steps``).
     """
 
     parameter: str = "level"
@@ -95,7 +94,6 @@ class LimitRecord:
     blowups: list = field(default_factory=list)
     undecided_level: float | None = None
     response_steps: list = field(default_factory=list)
-    measured: list = field(default_factory=list)
 
     def resumable(self) -> bool:
         """True when a search can go on from the model as it is now with this record (module
@@ -144,15 +142,12 @@ def search_failure(model, levels, apply, settings=None, *, record=None, progress
     st = (settings or SolveSettings()).replace(**changes).validated("search")
     remeasure = st.judge == "response" and st.response_steps is None
     if remeasure and model.response_steps is None:
-        rec_measured = [model.measure_response(st.watch)]
-    else:
-        rec_measured = []
+        model.measure_response(st.watch)
     levels = check_levels(levels, "levels", positive=False)
     if refine_to is not None:
         if not (np.isfinite(refine_to) and refine_to > 0):
             raise ValueError(f"refine_to must be finite and > 0, got {refine_to}")
     rec = record if record is not None else LimitRecord()
-    rec.measured.extend(rec_measured)
     t0 = time.perf_counter()
     now = float(levels[0] if start is None else start)
     stable_state = model.snapshot() if refine_to is not None else None
@@ -169,7 +164,7 @@ def search_failure(model, levels, apply, settings=None, *, record=None, progress
         if res.verdict == "undecided":
             rec.undecided_level = float(to)
         elif remeasure and not failed:      # the next level from here: this structure's N_r
-            rec.measured.append(model.measure_response(st.watch))
+            model.measure_response(st.watch)
         if on_level is not None:
             on_level(model, rec)
         return None if res.verdict == "undecided" else failed

@@ -45,7 +45,7 @@ from .water import WaterTable
 __all__ = ["Gravity", "Solve", "Cycle", "RaiseGravity", "Excavate", "ChangeMaterial",
            "PrescribeVelocity", "Release", "ServoLoad", "Load", "InSitu", "Displace",
            "FactorOfSafety", "StrengthSchedule", "WaterTable", "Cable", "Liner", "StageRecord",
-           "run_stages", "stops", "stop_note", "moved_most", "STOPS", "AFTER_FAILURE",
+           "run_stages", "stops", "stop_after", "stop_note", "moved_most", "STOPS", "AFTER_FAILURE",
            "check_stages", "stage_from_dict", "stage_to_dict", "stage_table", "STAGE_KINDS"]
 
 
@@ -342,14 +342,25 @@ def moved_most(model, before, n=5) -> list:
     return [(int(b), float(u[b])) for b in top if u[b] > 0]
 
 
+def stop_after(record, stages, model, before, after_failure="stop") -> bool:
+    """Whether the run ends after ``record`` (the stage at ``record.index`` of ``stages``,
+    the blocks at ``before`` (nb, 2) when it began): with ``after_failure`` "stop", a stage
+    that ``stops`` with stages left; its ``detail["stopped"]`` then holds the ``stop_note``."""
+    if after_failure != "stop" or not stops(record) or record.index + 1 >= len(stages):
+        return False
+    record.detail["stopped"] = stop_note(record, stages, moved_most(model, before))
+    return True
+
+
 def run_stages(model, stages, progress=None, on_level=None, after_failure="stop") -> list:
     """Run ``stages`` in order on ``model``; returns one StageRecord per stage run.
     ``progress``: optional callable(str), after each stage. ``on_level``: optional
     callable(index, stage, model, record) after each level of a search stage
     (``raise_gravity``, ``factor_of_safety``, ``strength_schedule``; ``record`` its
     ``limit.LimitRecord`` so far). ``after_failure``: "stop" ends the run after a stage that
-    ``stops``, when stages are left (its record's ``detail["stopped"]`` says which stage, at which level, which
-    blocks moved most and which stages did not run); "continue" runs every stage. A stage that
+    ``stops``, when stages are left (``stop_after``: its record's ``detail["stopped"]`` says
+    which stage, at which level, which blocks moved most and which stages did not run);
+    "continue" runs every stage. A stage that
     raises stops the run; the records of the finished stages are in the exception's
     ``records`` attribute. The stages are checked first (``check_stages``) against the model's
     groups and materials."""
@@ -374,8 +385,7 @@ def run_stages(model, stages, progress=None, on_level=None, after_failure="stop"
         records.append(rec)
         if progress is not None:
             progress(f"stage {i} {rec.kind}: {verdict}, {steps} steps, {rec.seconds:.1f} s")
-        if after_failure == "stop" and stops(rec) and i + 1 < len(stages):
-            rec.detail["stopped"] = stop_note(rec, stages, moved_most(model, before))
+        if stop_after(rec, stages, model, before, after_failure):
             if progress is not None:
                 progress(rec.detail["stopped"])
             break
