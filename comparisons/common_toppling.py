@@ -79,7 +79,8 @@ VARIANTS = {
                   t_values=[7e6, 4e6, 2e6, 1e6, 0.5e6, 0.25e6], refine_to=0.25e6,
                   studies=["friction 50", "cohesion 15"], conventional=True,
                   hc_tensile=[0.25e6, 1e6], max_steps=40_000, continuum=True,
-                  continuum_h=8.0, workers=2, solver={}, settle=False),
+                  continuum_h=8.0, workers=2, solver={}, settle=False,
+                  judge="budget"),
     # full: the thesis's three models, 1 m flaws in a 30 m zone, T in 0.5 MPa steps bisected
     # to 0.05 MPa, Hc at T = 1..5 MPa (and the quick's 0.25 MPa: the assumed slope needs less)
     "full": dict(spacings=[6.0, 3.0, 1.5], edge_length=1.0, zone_depth=30.0,
@@ -88,7 +89,8 @@ VARIANTS = {
                            0.1e6],
                  refine_to=0.05e6, studies=["friction 50", "cohesion 15"], conventional=True,
                  hc_tensile=[0.25e6, 1e6, 2e6, 3e6, 4e6, 5e6], max_steps=100_000,
-                 continuum=True, continuum_h=4.0, workers=2, solver={}, settle=False),
+                 continuum=True, continuum_h=4.0, workers=2, solver={}, settle=False,
+                 judge="budget"),
 }
 
 STUDIES = {"friction 50": dict(flaw_friction=50.0), "cohesion 15": dict(flaw_cohesion=15e6)}
@@ -178,7 +180,7 @@ def members(v: dict, seed: int) -> list:
             out.append(dict(label=f"Hc {s:g} m, T={t / MPA:g}", study="height", v=vv,
                             params=dict(geo, spacing=s, flaw_tensile_strength=t, **TABLE_5_3)))
     for m in out:
-        m["solver"], m["settle"] = dict(v["solver"]), v["settle"]
+        m["solver"], m["settle"], m["judge"] = dict(v["solver"]), v["settle"], v["judge"]
     return out
 
 

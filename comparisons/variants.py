@@ -10,9 +10,9 @@ import copy
 __all__ = ["pick_variant", "STAGED_OPTIONAL"]
 
 # the settings the staged field cases took after their custom variants were written: Model
-# options over the scene's (``solver``) and early settling of every solve and level
-# (``settle``, ``comparisons.staged.stage_run``)
-STAGED_OPTIONAL = {"solver": {}, "settle": False}
+# options over the scene's (``solver``), early settling of every solve and level (``settle``,
+# ``comparisons.staged.stage_run``) and how they are judged (``judge``, ``SolveSettings``)
+STAGED_OPTIONAL = {"solver": {}, "settle": False, "judge": "budget"}
 
 
 def pick_variant(case: str, variants: dict, variant, optional=None) -> tuple:
@@ -40,10 +40,11 @@ def pick_variant(case: str, variants: dict, variant, optional=None) -> tuple:
 
 def _checked(case: str, settings: dict) -> dict:
     """``settings``, its ``solver`` (if any) checked against the Model options a scene takes
-    (``dem_core.workflow.scene.SOLVER_KEYS``, each value of its option's kind) and its
-    ``settle`` (if any) a bool: a bad one is named before any run starts."""
+    (``dem_core.workflow.scene.SOLVER_KEYS``, each value of its option's kind), its
+    ``settle`` (if any) a bool and its ``judge`` (if any) one of ``SolveSettings``'s judges: a
+    bad one is named before any run starts."""
     from dem_core.geometry.regions import check_fields, check_keys
-    from dem_core.settings import SolverOptions
+    from dem_core.settings import JUDGES, SolverOptions
     from dem_core.workflow.scene import SOLVER_KEYS
     solver = settings.get("solver", {})
     if not isinstance(solver, dict):
@@ -53,4 +54,6 @@ def _checked(case: str, settings: dict) -> dict:
     check_fields(solver, SolverOptions, f"{case}: solver", partial=True)
     if not isinstance(settings.get("settle", False), bool):
         raise ValueError(f"{case}: settle must be true or false, got {settings['settle']!r}")
+    if settings.get("judge", "budget") not in JUDGES:
+        raise ValueError(f"{case}: judge must be one of {JUDGES}, got {settings['judge']!r}")
     return settings

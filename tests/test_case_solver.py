@@ -58,3 +58,34 @@ def test_each_member_carries_the_variants_settle(name):
     assert all(v["settle"] is False for v in case.VARIANTS.values())
     members = case.members(custom_variant(case, "quick", ["settle=true"]), 1)
     assert members and all(m["settle"] is True for m in members)
+
+
+@pytest.mark.parametrize("name", STAGED + ["adhikary", "longtan"])
+def test_each_member_carries_the_variants_judge(name):
+    """(``judge``: how every solve and search level is judged, ``SolveSettings.judge``;
+    "budget" in every named variant, ``--set judge=response`` for the response judge)"""
+    case = importlib.import_module(f"comparisons.{name}")
+    assert all(v["judge"] == "budget" for v in case.VARIANTS.values())
+    from comparisons import centrifuge
+    build = getattr(case, "members", None) or getattr(case, "_members", None) or (
+        centrifuge.ramp_members)
+    members = build(custom_variant(case, "quick", ["judge=response"]), 1)
+    assert members and all(m["judge"] == "response" for m in members)
+
+
+def test_a_bad_judge_is_named_before_any_run():
+    from comparisons import underdip
+    v = custom_variant(underdip, "quick", ["judge=respons"])
+    with pytest.raises(ValueError, match="judge must be one of .*'respons'"):
+        underdip.run(v)
+
+
+def test_a_member_with_the_response_judge_judges_every_stage_so():
+    from comparisons import underdip
+    member = underdip.members(custom_variant(underdip, "quick", ["judge=response"]), 1)[0]
+    sc = underdip.scene.scene(underdip.scene.UnderdipParams(**member["params"]),
+                              underdip.stages(underdip.scene.UnderdipParams(**member["params"]),
+                                              member["v"]))
+    judged = staged.judged_stages(sc.stages, member["judge"])
+    has = [st for st in judged if hasattr(st, "judge")]
+    assert has and all(st.judge == "response" for st in has)

@@ -88,3 +88,11 @@ def test_eigen_step_survives_save_and_load(tmp_path):
 def test_bad_step_estimate_is_named(kw, word):
     with pytest.raises(ValueError, match=word):
         block_on_base(1e9, 1e9, **kw)
+
+
+def test_auto_takes_the_eigenvalue_on_sharp_rigid_blocks_and_the_bound_on_rounded_ones():
+    auto, eigen = (block_on_base(2e9, 5e8, step_estimate=e) for e in ("auto", "eigen"))
+    assert auto.critical_dt == eigen.critical_dt
+    rounded = block_on_base(2e9, 5e8, step_estimate="auto", rounding=0.01)
+    bound = block_on_base(2e9, 5e8, step_estimate="bound", rounding=0.01)
+    assert rounded.critical_dt == bound.critical_dt < auto.critical_dt

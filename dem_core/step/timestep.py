@@ -5,7 +5,8 @@ Central differences are stable for ``dt < 2 / omega_max`` (e.g. Belytschko, Liu 
 Nonlinear Finite Elements, ch. 6). omega_max^2 is bounded block by block (Gershgorin 1931:
 every eigenvalue lies within a row's diagonal plus its off-diagonal sum, here
 ``run.frequency_bound``), or taken as the largest eigenvalue of the contact stiffness
-(``critical_step``, ``SolverOptions.step_estimate = "eigen"``). The step is
+(``critical_step``, ``SolverOptions.step_estimate = "eigen"``, or "auto" on rigid blocks with
+sharp corners). The step is
 ``dt = safety x 2 / omega_max`` unless a fixed ``dt`` is given.
 
 Three more things set omega_max:
@@ -67,7 +68,7 @@ def choose_timestep(world, cables, liners, options, table, previous_dt) -> TimeS
     p.inv_mass[:] = 1.0 / (p.mass * scale)
     p.inv_inertia[:] = 1.0 / (p.inertia * scale)
     w2max = float(w2[moving].max()) if moving.any() else 0.0
-    if options.step_estimate == "eigen" and moving.any():
+    if _eigen(options, world) and moving.any():
         w2max = _eigen_omega2(world, moving, guard / scale,
                               (kt / p.mass + kr / p.inertia) / scale)
     if not zone_kernels.is_empty(world.zones):
@@ -82,6 +83,14 @@ def choose_timestep(world, cables, liners, options, table, previous_dt) -> TimeS
     if math.isfinite(critical):
         return TimeStep(options.safety * critical, critical)
     return TimeStep(previous_dt, critical)      # no contacts yet: cycle() asks for a dt
+
+
+def _eigen(options, world) -> bool:
+    """Whether the step comes from the largest eigenvalue: "eigen", or "auto" on rigid blocks
+    with sharp corners (``critical_step`` has no zones or rounded corners)."""
+    return options.step_estimate == "eigen" or (
+        options.step_estimate == "auto" and not options.rounding
+        and zone_kernels.is_empty(world.zones))
 
 
 def _mass_scale(w2, moving, mass_scaling):

@@ -22,9 +22,13 @@ analysis by strength reduction", Geotechnique 49(6), 835-840): the steps a model
 come to rest after a change of load. It is kept with the model (``Model.response_steps``, saved
 in its file): a judged solve measures it at its start when the model has none (an excavation
 clears it), and a search measures it before its first level and again after each level that
-stood, so that each level is judged over the response time of the structure the level before
-left, cracks and all (on the Adhikary slope at 6 mm: 3,000 steps at rest before the ramp, ...
-after the 3,100 cracks of 40 g).
+stood with bonds broken since the last measurement, so that each level is judged over the
+response time of the structure the level before left, cracks and all (on the Adhikary slope
+at 6 mm: 3,000 steps at rest before the ramp, 9,400 after the 3,100 cracks of 40 g).
+
+What is judged: the watched points, or else everything that moves (the active blocks'
+centroids, the cables' and liners' nodes, the deformable blocks' gridpoints: a liner over an
+opening sags while every block it spans is held).
 
 **Verdict.** The solve runs in windows of N_r steps, checked every ``check`` steps. With
 ``move_k`` the largest movement of a judged block (or point) from window k-1 to window k, each
@@ -83,19 +87,34 @@ STRONG = 1e20           # Pa: the peak strengths of the measurement (no intact c
 REST = 1e-6             # of the median block radius: the least creep (movement below is noise)
 
 
+def _moving(model, which):
+    """Everything that moves (k, 2): the active blocks' centroids, the cables' and liners'
+    nodes and the active blocks' gridpoints; ``which``: "pos" positions (m) or "vel"
+    velocities (m/s)."""
+    z, active = model.zone_state, model.props.active > 0
+    live = np.repeat(active, np.diff(z.point_offsets)) if z.point_offsets.shape[0] else (
+        np.zeros(z.x.shape[0], bool))
+    pos = which == "pos"
+    return np.concatenate([
+        (model.state.pos if pos else model.state.vel)[active][:, :2],
+        model.cables.node_pos if pos else model.cables.node_vel,
+        model.liners.node_pos if pos else model.liners.node_vel,
+        (z.x if pos else z.v)[live]])
+
+
 def positions(model, watch):
-    """The judged positions (k, 2), m: the active blocks' centroids or the watched points'
-    displacements."""
+    """The judged positions (k, 2), m: the watched points' displacements, or everything that
+    moves (a liner's nodes sag while the blocks it spans are held)."""
     if watch:
         return np.array([model.point_motion(n)[:2] for n in watch], dtype=float)
-    return model.state.pos[model.props.active > 0].copy()
+    return _moving(model, "pos")
 
 
 def fastest(model, watch) -> float:
-    """The largest speed (m/s) of the active blocks' centroids or of the watched points."""
+    """The largest speed (m/s) of the watched points or of everything that moves."""
     if watch:
         return max(float(np.hypot(*model.point_motion(n)[2:])) for n in watch)
-    v = model.state.vel[model.props.active > 0]
+    v = _moving(model, "vel")
     return float(np.hypot(*v.T).max()) if v.size else 0.0
 
 
