@@ -142,9 +142,10 @@ class SolveSettings:
     max_steps : the step budget of the solve (of each level, in a search).
     failure_displacement : m; a block (or watched point) moving more than this during the
         solve has failed (None: no such test).
-    creep : m; displacement increments below this do not count as movement in the end test
-        (``output.monitor.verdict``; None: 1e-3 of the median block radius, or 0 for watched
-        points).
+    creep : m; displacement increments below this do not count as movement: in the budget
+        judge's end test (``output.monitor.verdict``; None: 1e-3 of the median block radius,
+        or 0 for watched points), and per window of N_r in the response judge's
+        (``workflow.response``; None: 1e-3 of the median block radius, at least 1e-6 of it).
     watch : history-point names judged instead of every block (empty: every block).
     settle : stop early as "settled" once the motion has died out (``monitor.settled``).
     judge : "budget" (today's default): the verdict at ``max_steps`` ("equilibrium", "settled",

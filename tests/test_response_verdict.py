@@ -176,23 +176,15 @@ def test_a_liner_over_an_opening_is_judged_by_its_own_nodes():
 
 @pytest.mark.xfail(strict=True, reason=(
     "the response judge reads a block pulled at 1.02 of its bolted limit as at rest: N_r is "
-    "measured with the joint held strong (the block's elastic 900 steps), while the block "
-    "slides on as the bolt yields, 0.08 mm a window, far below the default creep of 1e-3 of "
-    "the median radius (2 mm a window); the budget judge fails it at 5 mm (tests/test_support)"))
+    "the block's elastic 900 steps (the measurement holds the joint); the block moves 0.42 "
+    "then 0.19 mm over two windows (one halving: at rest), then slides on at 0.08 mm a window "
+    "as the bolt yields, with the mean ratio stuck at 3e-3, below the default creep of 2 mm a "
+    "window. Rules that catch it (halving twice, creep at round-off, the ratio within a factor "
+    "2) fail the Highwood k = 3 schedule at its first level, whose in-situ relaxation has the "
+    "same signature (docs/history.md); the budget judge fails the bolted block at 5 mm"))
 def test_a_block_pulled_past_its_bolted_limit_is_failing_under_the_response_judge():
     from test_support import bolted_block, limit_pull
     m = bolted_block(1.02 * limit_pull())
     res = m.solve(ratio=1e-6, failure_displacement=0.005, judge="response")
     assert res.verdict == "failing"
 
-
-def test_a_search_measures_the_response_time_again_only_after_bonds_broke():
-    """Friction levels that stand break no bond: the structure the measurement sees (every
-    intact bond held) is the same, so N_r is measured once, before the first level."""
-    m = plane(0.8)
-    values = [friction_at(f) for f in (0.85, 0.9, 0.95, 1.05)]
-    rec = search_failure(m, values, lambda mm, a, b: mm.set_material("joint:*", friction=b),
-                         judge="response", start=friction_at(0.8))
-    assert rec.verdict == ["equilibrium"] * 3 + ["failing"]
-    assert int(m.cracks.count[0]) == 0
-    assert len(set(rec.response_steps)) == 1 and m.measured_steps == rec.response_steps[0]

@@ -27,10 +27,8 @@ With ``judge="response"`` (``workflow.response``) a level is "equilibrium", "fai
 level) or "undecided": the search stops at an undecided level with no failure level
 (``LimitRecord.undecided_level``; a bisection keeps the bracket it had), since nothing beyond it
 can be judged from a state not known to stand. The model's response time N_r is measured before
-the first level (if the model has none) and again after each level that stood with bonds
-broken since the last measurement, so each level is judged over the response time of the
-structure the level before left (strength and load changes without new cracks leave the
-structure, and its response time, as measured: the measurement holds every intact bond).
+the first level (if the model has none) and again after each level that stood, so each level is
+judged over the response time of the structure the level before left.
 
 ``apply(model, level_from, level_to)`` moves the parameter (``gravity_ramp`` ramps g over a
 few hundred steps; ``strength`` changes the strength table at once, which moves no stress).
@@ -145,7 +143,6 @@ def search_failure(model, levels, apply, settings=None, *, record=None, progress
     remeasure = st.judge == "response" and st.response_steps is None
     if remeasure and model.response_steps is None:
         model.measure_response(st.watch)
-    measured_at = [_cracks(model)]      # the crack count of the structure N_r was measured on
     levels = check_levels(levels, "levels", positive=False)
     if refine_to is not None:
         if not (np.isfinite(refine_to) and refine_to > 0):
@@ -166,9 +163,8 @@ def search_failure(model, levels, apply, settings=None, *, record=None, progress
             rec.response_steps.append(res.response_steps)
         if res.verdict == "undecided":
             rec.undecided_level = float(to)
-        elif remeasure and not failed and _cracks(model) != measured_at[0]:
-            model.measure_response(st.watch)    # the next level from here: this structure's N_r
-            measured_at[0] = _cracks(model)
+        elif remeasure and not failed:      # the next level from here: this structure's N_r
+            model.measure_response(st.watch)
         if on_level is not None:
             on_level(model, rec)
         return None if res.verdict == "undecided" else failed
@@ -360,7 +356,3 @@ def remove_resumable(path) -> None:
     stem = Path(path)
     for suffix in (".npz", ".json", ".part.npz", ".part.json"):
         stem.with_name(stem.name + suffix).unlink(missing_ok=True)
-
-
-def _cracks(model) -> int:
-    return int(model.cracks.count[0])

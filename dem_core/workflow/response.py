@@ -22,8 +22,8 @@ analysis by strength reduction", Geotechnique 49(6), 835-840): the steps a model
 come to rest after a change of load. It is kept with the model (``Model.response_steps``, saved
 in its file): a judged solve measures it at its start when the model has none (an excavation
 clears it), and a search measures it before its first level and again after each level that
-stood with bonds broken since the last measurement, so that each level is judged over the
-response time of the structure the level before left, cracks and all (on the Adhikary slope
+stood, so that each level is judged over the response time of the structure the level
+before left, cracks, open joints and all (on the Adhikary slope
 at 6 mm: 3,000 steps at rest before the ramp, 9,400 after the 3,100 cracks of 40 g).
 
 What is judged: the watched points, or else everything that moves (the active blocks'
