@@ -164,7 +164,10 @@ class Scene:
     def from_dict(cls, d: dict) -> "Scene":
         """A scene from its file form. Every level is checked before anything is built: an
         unknown key (with a "did you mean" and the allowed keys), a missing one, a value of
-        the wrong kind (``regions.check_fields``), each naming where it is."""
+        the wrong kind (``regions.check_fields``), each naming where it is. A "$schema" key
+        (an editor's link to ``dem_core/scene.schema.json``) is ignored."""
+        if isinstance(d, dict) and "$schema" in d:
+            d = {k: v for k, v in d.items() if k != "$schema"}
         check_keys(d, _SCENE_KEYS, "scene", required=("geometry", "materials", "density"))
         for key, kind in _SCENE_KINDS.items():
             if key in d and not isinstance(d[key], kind):
