@@ -48,11 +48,19 @@ CASES = {
 }
 
 
+# the energy wobble of central differences grows as (omega_max dt)^2: the bounded step takes
+# omega_max dt of about 0.46 on these specimens, the eigen step 1.0 (safety 0.5 of 2 / omega);
+# measured 1.3-3.6 % and 2.7-7.3 % of the largest spring energy, the same over 3,000 and 30,000
+# steps (bounded, not growing)
+WOBBLE = {"bound": 0.05, "eigen": 0.10}
+
+
+@pytest.mark.parametrize("estimate", list(WOBBLE))
 @pytest.mark.parametrize("case", list(CASES))
-def test_energy_stays_bounded(case):
-    m, worst, se_max, moved = run_released(specimen(), **CASES[case])
+def test_energy_stays_bounded(case, estimate):
+    m, worst, se_max, moved = run_released(specimen(), step_estimate=estimate, **CASES[case])
     assert se_max > 0
-    assert worst <= 0.05 * se_max, f"{case}: energy grew to {worst:.3g} J/m"
+    assert worst <= WOBBLE[estimate] * se_max, f"{case}: energy grew to {worst:.3g} J/m"
     assert moved < 0.01 or case in ("kn 1e8", "zero friction")
     assert np.isfinite(m.state.pos).all()
 

@@ -174,17 +174,36 @@ def test_a_liner_over_an_opening_is_judged_by_its_own_nodes():
     assert 1.0 - ln.node_pos[mid, 1] == pytest.approx(q * span ** 4 / (384 * ei), rel=0.05)
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "the response judge reads a block pulled at 1.02 of its bolted limit as at rest: N_r is "
-    "the block's elastic 900 steps (the measurement holds the joint); the block moves 0.42 "
-    "then 0.19 mm over two windows (one halving: at rest), then slides on at 0.08 mm a window "
-    "as the bolt yields, with the mean ratio stuck at 3e-3, below the default creep of 2 mm a "
-    "window. Rules that catch it (halving twice, creep at round-off, the ratio within a factor "
-    "2) fail the Highwood k = 3 schedule at its first level, whose in-situ relaxation has the "
-    "same signature (docs/history.md); the budget judge fails the bolted block at 5 mm"))
+def test_a_bolted_block_below_its_limit_is_at_rest():
+    from test_support import bolted_block, limit_pull
+    m = bolted_block(0.98 * limit_pull())
+    res = m.solve(ratio=1e-6, failure_displacement=0.005, judge="response")
+    assert res.verdict == "equilibrium"
+
+
+SLOW_SLIDE = (
+    "the response judge reads a slow slide that a yielding support lets go as at rest: N_r is "
+    "the block's elastic 900 steps (the measurement holds the joint); the block moves less "
+    "than the default creep of 1e-3 of the median radius a window (2-2.7 mm) and not more "
+    "than the window before, the mean ratio stuck at 3e-3 to 5e-3. Asking the ratio to halve "
+    "as well catches both but leaves common toppling's stage 14 undecided at 20 windows; "
+    "a creep at round-off fails Highwood k = 3 at its first level (docs/history.md). The "
+    "budget judge fails both")
+
+
+@pytest.mark.xfail(strict=True, reason=SLOW_SLIDE)
 def test_a_block_pulled_past_its_bolted_limit_is_failing_under_the_response_judge():
     from test_support import bolted_block, limit_pull
     m = bolted_block(1.02 * limit_pull())
     res = m.solve(ratio=1e-6, failure_displacement=0.005, judge="response")
+    assert res.verdict == "failing"
+
+
+@pytest.mark.xfail(strict=True, reason=SLOW_SLIDE)
+def test_a_block_pulled_past_a_cables_capacity_is_failing_under_the_response_judge():
+    from test_support import pulled_cable, two_blocks
+    m = pulled_cable(two_blocks(), yield_tension=5e4, rupture_strain=0.02)
+    m.apply_load("block", fx=6e4)                 # more than the cable can hold
+    res = m.solve(ratio=1e-6, failure_displacement=0.05, judge="response")
     assert res.verdict == "failing"
 
