@@ -1,6 +1,6 @@
 """Command line: ``python -m comparisons list | run CASE [--quick|--full] [--set KEY=VALUE ...]
 [--out DIR] [--resume] [--restart] [--vtk] | run-scene FILE [--set KEY=VALUE ...] [--out DIR]
-[--resume] [--restart] [--vtk] [--check] | demo``.
+[--resume] [--restart] [--vtk] [--check] [--strict] | demo``.
 
 ``run-scene FILE --check`` checks the scene and builds its model (blocks and contacts, no
 step), draws it to ``OUT/<scene name>/check.png`` and prints one line (blocks, contacts, the
@@ -21,13 +21,16 @@ without ``--resume``, deletes the kept results and starts over.
 
 Bad input (an unknown case, a scene file that does not load, an --out that cannot be written,
 a kept result to resume from that belongs to another scene or settings or does not read) ends
-in one line on stderr and exit status 2, before any compute."""
+in one line on stderr and exit status 2, before any compute. An unusual value of a scene
+(``dem_core.workflow.plausibility``) is one warning line on stderr; ``--strict`` makes it bad
+input."""
 from __future__ import annotations
 
 import argparse
 import sys
 import time
-from contextlib import ExitStack
+import warnings
+from contextlib import ExitStack, contextmanager
 from pathlib import Path
 
 from comparisons import registry, store
@@ -75,6 +78,10 @@ def main(argv=None) -> int:
                        help="check the scene and draw the model as built to OUT/<scene name>/"
                             "check.png (blocks, joints, boundaries, points, water table); "
                             "no step is run")
+    scene.add_argument("--strict", action="store_true",
+                       help="refuse the scene for an unusual value (a reservoir, a density, "
+                            "friction or cohesion that looks like a unit slip) instead of "
+                            "warning")
     scene.add_argument("--quiet", action="store_true")
     demo = sub.add_parser("demo", help="the README's main job: the quick showcase case")
     demo.add_argument("--out", default="results")
@@ -87,9 +94,11 @@ def main(argv=None) -> int:
         return 0
     if args.command == "run-scene":
         if args.check:
-            return check_scene_file(args.file, Path(args.out), settings=args.set)
+            return check_scene_file(args.file, Path(args.out), settings=args.set,
+                                    strict=args.strict)
         return run_scene_file(args.file, Path(args.out), args.vtk, args.quiet,
-                              settings=args.set, resume=args.resume, restart=args.restart)
+                              settings=args.set, resume=args.resume, restart=args.restart,
+                              strict=args.strict)
     if args.command == "demo":
         return run_case(registry.DEMO_CASE, "quick", Path(args.out), seed=1, quiet=False)
     return run_case(args.case, args.variant or "quick", Path(args.out), args.seed, args.quiet,
@@ -178,19 +187,42 @@ def custom_variant(module, variant: str, settings) -> dict:
     return out
 
 
+@contextmanager
+def scene_warnings(strict: bool = False):
+    """Print each ``ScenePlausibilityWarning`` raised inside as one line on stderr, or, with
+    ``strict``, refuse the scene with them (ValueError); other warnings pass on."""
+    from dem_core.workflow.plausibility import ScenePlausibilityWarning
+
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always", ScenePlausibilityWarning)
+        yield
+    lines = []
+    for w in seen:
+        if issubclass(w.category, ScenePlausibilityWarning):
+            lines.append(str(w.message))
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    if strict and lines:
+        raise ValueError("; ".join(lines) + " (refused by --strict)")
+    for line in lines:
+        print(f"{PROG}: warning: {line}", file=sys.stderr)
+
+
 def run_scene_file(path, out: Path, vtk: bool = False, quiet: bool = False, settings=(),
-                   resume: bool = False, restart: bool = False) -> int:
+                   resume: bool = False, restart: bool = False, strict: bool = False) -> int:
     """``run-scene``: run a scene file's stages on the DEM model (with the ``--set`` items
     ``settings``) and write its results to ``out/<scene name>`` (``comparisons.run_scene``);
-    ``resume``: go on after the stages an earlier run kept; ``restart``: delete them first. A
-    file that does not load as a scene, an unwritable ``out`` or, resuming, kept stages of
+    ``resume``: go on after the stages an earlier run kept; ``restart``: delete them first;
+    ``strict``: an unusual value (``scene_warnings``) refuses the scene. A file that does not
+    load as a scene, an unwritable ``out`` or, resuming, kept stages of
     another scene or settings are refused before any compute; a stage that raises ends with
     status 1 after the outputs of the stages before it are written."""
     from comparisons.run_scene import load_stages, prepare, run_prepared, scene_source
 
     with ExitStack() as stack:
         try:
-            scene, folder = prepare(path, out, settings)
+            with scene_warnings(strict):
+                scene, folder = prepare(path, out, settings)
             keep = stack.enter_context(store.case_output(
                 folder, resume=resume, restart=restart, source=scene_source(scene, settings)))
             kept = load_stages(keep) if keep.resume else None
@@ -216,7 +248,7 @@ def run_scene_file(path, out: Path, vtk: bool = False, quiet: bool = False, sett
     return 0
 
 
-def check_scene_file(path, out: Path, settings=()) -> int:
+def check_scene_file(path, out: Path, settings=(), strict: bool = False) -> int:
     """``run-scene FILE --check``: check the scene, build its model (no step), draw it to
     ``out/<scene name>/check.png`` and print one line: the blocks, contacts and stages
     (``comparisons.run_scene.check_scene``). A scene that does not load or whose stages or
@@ -224,7 +256,8 @@ def check_scene_file(path, out: Path, settings=()) -> int:
     from comparisons.run_scene import check_scene
 
     try:
-        _, line = check_scene(path, out, settings)
+        with scene_warnings(strict):
+            _, line = check_scene(path, out, settings)
     except ValueError as e:
         return fail(str(e))
     print(line)

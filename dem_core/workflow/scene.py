@@ -35,6 +35,7 @@ from ..geometry.regions import check_fields, check_keys
 from ..settings import SCENE_SOLVER_KEYS, SolverOptions
 from ..contact.materials import Material, material_for, material_table
 from ..deformable.zone_plasticity import new_keys
+from . import plausibility
 from .stages import AFTER_FAILURE, STAGE_KINDS, check_stages, stage_from_dict, stage_to_dict
 
 __all__ = ["Scene", "Boundary", "build_model", "conventional", "resolve_groups", "group_sides",
@@ -165,7 +166,10 @@ class Scene:
         """A scene from its file form. Every level is checked before anything is built: an
         unknown key (with a "did you mean" and the allowed keys), a missing one, a value of
         the wrong kind (``regions.check_fields``), each naming where it is. A "$schema" key
-        (an editor's link to ``dem_core/scene.schema.json``) is ignored."""
+        (an editor's link to ``dem_core/scene.schema.json``) is ignored. Then the physics
+        (``plausibility``): a water table below the whole model is refused, and each unusual
+        value (a reservoir, a density, friction or cohesion that looks like a unit slip) is a
+        ``ScenePlausibilityWarning``."""
         if isinstance(d, dict) and "$schema" in d:
             d = {k: v for k, v in d.items() if k != "$schema"}
         check_keys(d, _SCENE_KEYS, "scene", required=("geometry", "materials", "density"))
@@ -181,15 +185,18 @@ class Scene:
             geometry = GeometrySpec.from_dict(d["geometry"], "geometry")
         except TypeError as e:                   # anything the checks above did not name
             raise ValueError(f"scene geometry: {e}") from None
-        return cls(geometry=geometry, materials=mats, density=d["density"],
-                   block_E=d.get("block_E"), block_nu=d.get("block_nu", 0.25),
-                   groups=d.get("groups", {}),
-                   boundaries=[_boundary(b, i) for i, b in enumerate(d.get("boundaries", []))],
-                   points=d.get("points", {}),
-                   stages=[_stage(s, i) for i, s in enumerate(d.get("stages", []))],
-                   solver=d.get("solver", {}), name=d.get("name", "scene"),
-                   description=d.get("description", ""),
-                   after_failure=d.get("after_failure", "stop"))
+        scene = cls(geometry=geometry, materials=mats, density=d["density"],
+                    block_E=d.get("block_E"), block_nu=d.get("block_nu", 0.25),
+                    groups=d.get("groups", {}),
+                    boundaries=[_boundary(b, i) for i, b in enumerate(d.get("boundaries", []))],
+                    points=d.get("points", {}),
+                    stages=[_stage(s, i) for i, s in enumerate(d.get("stages", []))],
+                    solver=d.get("solver", {}), name=d.get("name", "scene"),
+                    description=d.get("description", ""),
+                    after_failure=d.get("after_failure", "stop"))
+        plausibility.check_water_reaches(scene)
+        plausibility.warn_unusual(scene)
+        return scene
 
     def save(self, path) -> None:
         """Write the scene as readable JSON."""

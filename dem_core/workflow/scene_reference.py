@@ -32,7 +32,7 @@ EXAMPLE_STAGES = {
     "factor_of_safety": {"materials": ["joint:bedding"]},
     "strength_schedule": {"material": "flaw:rock", "property": "tensile_strength",
                           "values": [1e6, 8e5]},
-    "water": {"surface": 0.2},
+    "water": {"surface": [[0.0, 0.2], [0.4, 0.05]]},
     "cable": {"collar": [0.31, 0.2], "end": [0.2, 0.2], "area": 5e-6, "E": 2e11,
               "yield_tension": 1e3, "grout_stiffness": 1e8, "grout_strength": 1e4},
     "liner": {"group": "crest", "thickness": 0.002, "E": 2e10, "tensile_yield": 2e6,

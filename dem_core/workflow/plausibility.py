@@ -1,0 +1,111 @@
+"""Physical plausibility of a scene, checked when a scene file is read (``Scene.from_dict``).
+
+What cannot be meant is an error (ValueError): a water table below the whole model, which
+puts no water anywhere (a depth given as a negative level, a level in the wrong datum).
+
+What is unusual but possible is a one-line ``ScenePlausibilityWarning`` each, naming the value
+and the likely slip; ``run-scene --strict`` turns them into errors:
+
+- a water table above the ground surface: the water outside the slope is a reservoir pressing
+  on the face, which is rarely meant;
+- a density under ``LIGHTEST`` = 500 kg/m^3 (rock is 1,800-3,000: t/m^3 or g/cm^3 given?);
+- a friction angle above 0 and under ``FLATTEST`` = 5 deg (a tangent or radians given? 0 is
+  a frictionless surface, e.g. a lab platen, and is taken as meant);
+- a cohesion under ``WEAKEST_COHESION`` = 1 kPa on a material whose tensile strength is at
+  least 0.1 MPa (kPa given where Pa is meant?).
+
+Units inside are SI (docs/scenes.md): Pa, kg/m^3, degrees.
+"""
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import shapely
+
+from .water import WaterTable, surface_height
+
+__all__ = ["ScenePlausibilityWarning", "unusual", "check_water_reaches", "warn_unusual",
+           "LIGHTEST", "FLATTEST", "WEAKEST_COHESION"]
+
+LIGHTEST = 500.0            # kg/m^3
+FLATTEST = 5.0              # deg
+WEAKEST_COHESION = 1e3      # Pa, with a tensile strength of at least ...
+STRONG_TENSION = 1e5        # Pa
+_SAMPLES = 201              # abscissae at which the ground and a water table are compared
+
+
+class ScenePlausibilityWarning(UserWarning):
+    """A scene value that is possible but unusual enough to be a slip (module docstring)."""
+
+
+def _ground(scene):
+    """(x (n,), top y (n,), lowest y) of the model's regions: the ground surface sampled over
+    the model's width."""
+    rock = shapely.union_all([r.polygon() for r in scene.geometry.regions])
+    x0, y0, x1, y1 = rock.bounds
+    xs = np.linspace(x0, x1, _SAMPLES)[1:-1]
+    top = np.array([shapely.intersection(rock, shapely.LineString([(x, y0 - 1), (x, y1 + 1)]))
+                    .bounds[3] for x in xs])
+    return xs, top, y0
+
+
+def _water_stages(scene):
+    return [(i, st) for i, st in enumerate(scene.stages)
+            if isinstance(st, WaterTable) and st.surface is not None]
+
+
+def check_water_reaches(scene) -> None:
+    """ValueError for a water table wholly below the model (no water anywhere)."""
+    stages = _water_stages(scene)
+    if not stages:
+        return
+    xs, _, lowest = _ground(scene)
+    for i, st in stages:
+        level = surface_height(st.surface, xs)
+        if np.all(level <= lowest):
+            raise ValueError(f"stage {i} (water): the water table (at most {level.max():g} m) "
+                             f"is below the whole model (lowest point y = {lowest:g} m), so "
+                             f"it puts no water anywhere: a depth given where a level is "
+                             f"meant?")
+
+
+def unusual(scene) -> list:
+    """One line per unusual value of ``scene`` (module docstring)."""
+    out = []
+    density = np.atleast_1d(np.asarray(scene.density, dtype=float))
+    if density.min() < LIGHTEST:
+        out.append(f"density {density.min():g} kg/m^3 is below {LIGHTEST:g}: rock is "
+                   f"1,800-3,000 kg/m^3 (t/m^3 given?)")
+    for name, m in scene.materials.items():
+        if 0 < m.friction < FLATTEST:            # 0: a frictionless surface, meant
+            out.append(f"materials[{name!r}]: friction {m.friction:g} deg is below "
+                       f"{FLATTEST:g} deg (a tangent or radians given?)")
+        if 0 < m.cohesion < WEAKEST_COHESION and m.tensile_strength >= STRONG_TENSION:
+            out.append(f"materials[{name!r}]: cohesion {m.cohesion:g} Pa is below "
+                       f"{WEAKEST_COHESION:g} Pa while the tensile strength is "
+                       f"{m.tensile_strength:g} Pa (kPa given where Pa is meant?)")
+    out += _reservoirs(scene)
+    return out
+
+
+def _reservoirs(scene) -> list:
+    stages = _water_stages(scene)
+    if not stages:
+        return []
+    xs, top, _ = _ground(scene)
+    out = []
+    for i, st in stages:
+        above = surface_height(st.surface, xs) - top
+        k = int(np.argmax(above))
+        if above[k] > 1e-6 * max(1.0, float(np.ptp(top))):
+            out.append(f"stage {i} (water): the water table is {above[k]:.3g} m above the "
+                       f"ground at x = {xs[k]:g} m: the water outside the slope presses on "
+                       f"the face as a reservoir")
+    return out
+
+
+def warn_unusual(scene) -> None:
+    """Each line of ``unusual`` as a ``ScenePlausibilityWarning``."""
+    for line in unusual(scene):
+        warnings.warn(line, ScenePlausibilityWarning, stacklevel=3)
