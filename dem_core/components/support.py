@@ -276,6 +276,17 @@ def _into_rock(tree, a, b, name):
     return moved
 
 
+def check_in_rock(model, cab: Cable) -> None:
+    """ValueError (``_into_rock``'s) when the cable's collar or end is not in rock on the
+    model as it is: a run checks its cable stages before its first step (``run_stages``)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")         # a point in a gap is moved at installation
+        tree = _block_tree(model)
+        collar, end = np.asarray(cab.collar, float), np.asarray(cab.end, float)
+        _into_rock(tree, collar, end, "collar")
+        _into_rock(tree, end, collar, "end")
+
+
 def _cable_arrays(model, cab: Cable, tree) -> dict:
     collar, end = np.asarray(cab.collar, float), np.asarray(cab.end, float)
     collar, end = _into_rock(tree, collar, end, "collar"), _into_rock(tree, end, collar, "end")

@@ -293,6 +293,28 @@ def check_stages(stages, groups, materials) -> None:
             gone[st.group] = i
 
 
+def check_on_model(stages, model) -> None:
+    """What the stages need of the built model, before its first step (ValueError naming the
+    stage): every watched point is a monitoring point, every excavated group has blocks at the
+    start, every cable starts and ends in rock (on the model as built; excavations and
+    movement before the stage are checked again when it runs)."""
+    from ..components.support import Cable, check_in_rock
+    for i, st in enumerate(stages):
+        kind = _KIND_OF[type(st)]
+        missing = [p for p in getattr(st, "watch", ()) if p not in model.points]
+        if missing:
+            raise ValueError(f"stage {i} ({kind}): watch names no monitoring point "
+                             f"{missing}; points are {sorted(model.points)}")
+        if isinstance(st, Excavate) and not len(model.group(st.group)):
+            raise ValueError(f"stage {i} (excavate): group {st.group!r} has no blocks")
+        if isinstance(st, Cable):
+            try:
+                check_in_rock(model, st)
+            except ValueError as e:
+                why = str(e).removeprefix("cable: ")
+                raise ValueError(f"stage {i} ({kind}): {why}") from None
+
+
 def stage_table(records, points=None) -> str:
     """A markdown table of the monitoring points' displacements (mm) at the end of each stage
     (``StageRecord``s), with each stage's kind, verdict and steps: the stage-by-stage
@@ -367,6 +389,7 @@ def run_stages(model, stages, progress=None, on_level=None, after_failure="stop"
     if after_failure not in AFTER_FAILURE:
         raise ValueError(f"after_failure must be one of {AFTER_FAILURE}, got {after_failure!r}")
     check_stages(stages, set(model.blocks.groups), model.materials)
+    check_on_model(stages, model)
     records = []
     for i, st in enumerate(stages):
         t0, before = time.perf_counter(), model.state.pos.copy()
