@@ -78,3 +78,30 @@ def test_run_scene_prints_a_warning_line_and_strict_refuses(tmp_path, capsys, mo
     assert cli.main(["run-scene", str(path), "--out", str(tmp_path / "out"), "--strict"]) == 2
     err = capsys.readouterr().err
     assert "error:" in err and "density 2.6" in err and "--strict" in err and ran == [1]
+
+
+def test_two_regions_a_hair_apart_are_refused():
+    d = scene_dict()
+    regions = d["geometry"]["regions"]
+    d2 = json.loads(json.dumps(d))
+    d2["materials"]["*"] = d2["materials"]["joint:bedding"]     # the lid's contacts
+    d2["geometry"]["regions"] = regions + [
+        {"name": "lid", "exterior": [[0.0, 0.3955], [0.1, 0.3955], [0.1, 0.45], [0.0, 0.45]]}]
+    with pytest.raises(ValueError, match="regions .*'lid'.* apart.* a gap where an edge"):
+        Scene.from_dict(d2)
+    d2["geometry"]["regions"][-1]["exterior"] = [[0.0, 0.395], [0.1, 0.395], [0.1, 0.45],
+                                                 [0.0, 0.45]]
+    Scene.from_dict(d2)                           # sharing the edge: no gap
+
+
+def test_sliver_blocks_are_warned_when_the_blocks_are_built():
+    from dem_core.geometry import GeometrySpec
+    from dem_core.geometry.regions import rectangle
+    from dem_core.contact.materials import Material
+    from dem_core.workflow.scene import Boundary, build_model
+    geo = GeometrySpec([rectangle("base", 0, 0, 4, 1), rectangle("block", 1, 1, 2, 1.5),
+                        rectangle("chip", 2, 1, 2.001, 1.01)])
+    sc = Scene(geo, {"*": Material(kn=1e9, ks=1e9)}, density=2500.0,
+               boundaries=[Boundary("base")])
+    with pytest.warns(ScenePlausibilityWarning, match="1 block.* under 0.0001 of the median"):
+        build_model(sc)

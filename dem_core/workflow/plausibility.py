@@ -3,6 +3,10 @@
 What cannot be meant is an error (ValueError): a water table below the whole model, which
 puts no water anywhere (a depth given as a negative level, a level in the wrong datum).
 
+Two regions that almost touch are an error too: a gap narrower than ``GAP`` = 1 % of the
+smaller region's size between regions that do not touch (an edge meant to be shared, given
+with coordinates a little apart, leaves the blocks on either side without contacts).
+
 What is unusual but possible is a one-line ``ScenePlausibilityWarning`` each, naming the value
 and the likely slip; ``run-scene --strict`` turns them into errors:
 
@@ -13,6 +17,9 @@ and the likely slip; ``run-scene --strict`` turns them into errors:
   a frictionless surface, e.g. a lab platen, and is taken as meant);
 - a cohesion under ``WEAKEST_COHESION`` = 1 kPa on a material whose tensile strength is at
   least 0.1 MPa (kPa given where Pa is meant?).
+
+And, when the blocks are built (``build_model``), blocks under ``SLIVER`` = 1e-4 of the
+median block area: each one sets the time step (``Model(mass_scaling=True)`` lifts that).
 
 Units inside are SI (docs/scenes.md): Pa, kg/m^3, degrees.
 """
@@ -25,13 +32,16 @@ import shapely
 
 from .water import WaterTable, surface_height
 
-__all__ = ["ScenePlausibilityWarning", "unusual", "check_water_reaches", "warn_unusual",
-           "LIGHTEST", "FLATTEST", "WEAKEST_COHESION"]
+__all__ = ["ScenePlausibilityWarning", "unusual", "check_water_reaches", "check_no_gaps",
+           "warn_unusual", "warn_slivers", "LIGHTEST", "FLATTEST", "WEAKEST_COHESION", "GAP",
+           "SLIVER"]
 
 LIGHTEST = 500.0            # kg/m^3
 FLATTEST = 5.0              # deg
 WEAKEST_COHESION = 1e3      # Pa, with a tensile strength of at least ...
 STRONG_TENSION = 1e5        # Pa
+GAP = 0.01                  # of the smaller region's size: regions closer than this must touch
+SLIVER = 1e-4               # of the median block area
 _SAMPLES = 201              # abscissae at which the ground and a water table are compared
 
 
@@ -68,6 +78,37 @@ def check_water_reaches(scene) -> None:
                              f"is below the whole model (lowest point y = {lowest:g} m), so "
                              f"it puts no water anywhere: a depth given where a level is "
                              f"meant?")
+
+
+def check_no_gaps(scene) -> None:
+    """ValueError for two regions closer than ``GAP`` of the smaller one's size that do not
+    touch."""
+    regions = scene.geometry.regions
+    polys = [r.polygon() for r in regions]
+    for i in range(len(polys)):
+        for j in range(i + 1, len(polys)):
+            gap = polys[i].distance(polys[j])
+            size = min(np.sqrt(polys[i].area), np.sqrt(polys[j].area))
+            if 0 < gap < GAP * size:
+                raise ValueError(f"regions {regions[i].name!r} and {regions[j].name!r} are "
+                                 f"{gap:.3g} m apart, under {GAP:.0%} of the smaller one's "
+                                 f"size: a gap where an edge was meant to be shared? (no "
+                                 f"contact crosses it)")
+
+
+def warn_slivers(blocks) -> None:
+    """A ``ScenePlausibilityWarning`` for blocks under ``SLIVER`` of the median area."""
+    area = np.asarray(blocks.area, dtype=float)
+    if not area.size:
+        return
+    small = np.flatnonzero(area < SLIVER * np.median(area))
+    if small.size:
+        k = small[np.argmin(area[small])]
+        x, y = blocks.centroid[k]
+        warnings.warn(f"{small.size} block(s) under {SLIVER:g} of the median block area "
+                      f"(smallest {area[k]:.3g} m^2 at ({x:.4g}, {y:.4g}) m): each sets the "
+                      f"time step; Model(mass_scaling=True) lifts that",
+                      ScenePlausibilityWarning, stacklevel=3)
 
 
 def unusual(scene) -> list:

@@ -194,6 +194,7 @@ class Scene:
                     solver=d.get("solver", {}), name=d.get("name", "scene"),
                     description=d.get("description", ""),
                     after_failure=d.get("after_failure", "stop"))
+        plausibility.check_no_gaps(scene)
         plausibility.check_water_reaches(scene)
         plausibility.warn_unusual(scene)
         return scene
@@ -219,11 +220,13 @@ class Scene:
 def build_model(scene: Scene, blocks=None, **options):
     """The DEM ``Model`` of a scene: blocks (built from the geometry unless given), materials,
     groups resolved into ``blocks.groups``, boundaries applied, monitoring points added.
-    ``options`` override the scene's solver options."""
+    ``options`` override the scene's solver options. Blocks under 1e-4 of the median area are
+    a ``ScenePlausibilityWarning`` (``plausibility.warn_slivers``)."""
     from ..geometry import build_block_system
     from ..model import Model
 
     blocks = build_block_system(scene.geometry) if blocks is None else blocks
+    plausibility.warn_slivers(blocks)
     blocks.groups.update(resolve_groups(scene, blocks))
     solver = dict(scene.solver, **options)
     model = Model(blocks, scene.materials, density=scene.density, block_E=scene.block_E,
