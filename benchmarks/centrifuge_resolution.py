@@ -38,6 +38,10 @@ from comparisons.sweep import run_sweep
 
 import outdir
 
+# G_II / G_I of the softening flaws a --fracture-energy run gives (shear fracture energies of
+# rock are several to ten times the opening one; a stated choice, not a measured one)
+MODE_II_RATIO = 10.0
+
 # per case: its module, the full variant's settings, steps per level by block edge (m; finer
 # blocks settle more slowly: more blocks along a column, more steps per period of its lowest
 # mode; the case's own edge keeps its own setting), the base T (MPa) and the references
@@ -54,17 +58,22 @@ CASES = {
 
 
 def member(edge: float, seed: int = 1, tensile_mpa: float | None = None,
-           edge_elements: bool = False, case: str = "adhikary", zone: float = 0.0) -> dict:
-    """The sweep member of one block size (the case's base run at another edge, seed or T)."""
+           edge_elements: bool = False, case: str = "adhikary", zone: float = 0.0,
+           fracture_energy: float = 0.0) -> dict:
+    """The sweep member of one block size (the case's base run at another edge, seed or T;
+    ``fracture_energy`` G_I of softening flaws, J/m^2, with G_II = ``MODE_II_RATIO`` G_I)."""
     spec = CASES[case]
     full = spec["module"].VARIANTS["full"]
     t = spec["tensile"] if tensile_mpa is None else tensile_mpa
     steps = spec["max_steps"]
-    return dict(label=f"{case} edge {edge} seed {seed} T {t}", case=case,
+    soft = ({"flaw_fracture_energy_I": fracture_energy,
+             "flaw_fracture_energy_II": MODE_II_RATIO * fracture_energy}
+            if fracture_energy else {})
+    return dict(label=f"{case} edge {edge} seed {seed} T {t} G {fracture_energy}", case=case,
                 solver=dict(edge_elements=edge_elements,
                             **({"deformable": {"*": zone}} if zone > 0 else {})),
                 params=dict(edge_length=edge, seed=seed, flaw_tensile_strength=t * 1e6,
-                            relax_iterations=full["relax_iterations"]),
+                            relax_iterations=full["relax_iterations"], **soft),
                 g_levels=full["g_levels"],
                 max_steps=steps.get(edge, steps[min(steps)]),   # (else the finest's)
                 refine_to=full["refine_to"])
@@ -80,6 +89,7 @@ def row(m: dict, r: dict) -> dict:
             "seed": m["params"]["seed"],
             "flaw_tensile_mpa": m["params"]["flaw_tensile_strength"] / 1e6,
             "edge_elements": m["solver"]["edge_elements"],
+            "fracture_energy_I": m["params"].get("flaw_fracture_energy_I", 0.0),
             "zone_m": m["solver"].get("deformable", {}).get("*", 0.0),
             "blocks": r["blocks"],
             "contacts": r["contacts"], "g_step": m["g_levels"][1] - m["g_levels"][0],
@@ -109,6 +119,8 @@ def main(argv=None):
                     help="shared edges as linear elements (Model(edge_elements=True))")
     ap.add_argument("--deformable", type=float, default=0.0, metavar="H",
                     help="every block deformable, zones of H m (Model(deformable={'*': H}))")
+    ap.add_argument("--fracture-energy", type=float, nargs="+", default=[0.0], metavar="G_I",
+                    help="softening flaws with G_I (J/m^2) and G_II = 10 G_I; 0: brittle")
     ap.add_argument("--name", default="centrifuge_resolution",
                     help="file name of the results (without .json / .png)")
     ap.add_argument("--summary", nargs="+", metavar="NAME",
@@ -123,8 +135,9 @@ def main(argv=None):
                 for r in json.loads(outdir.find(f"{n}.json").read_text())["rows"]]
         summary_figure(rows, out / f"{a.name}.png")
         return
-    members = [member(edge, seed, t, a.edge_elements, a.case, a.deformable)
-               for edge in a.edges for seed in a.seeds for t in a.tensile]
+    members = [member(edge, seed, t, a.edge_elements, a.case, a.deformable, g)
+               for edge in a.edges for seed in a.seeds for t in a.tensile
+               for g in a.fracture_energy]
     rows = [row(m, r) for m, r in zip(members, run_sweep(run_member, members, a.workers))]
     for r in rows:
         print(json.dumps(r), flush=True)
@@ -137,7 +150,9 @@ def main(argv=None):
 def _model_label(r: dict) -> str:
     if r.get("zone_m"):
         return f"deformable blocks, {1e3 * r['zone_m']:g} mm zones"
-    return "edge elements" if r.get("edge_elements") else "end springs (default)"
+    label = "edge elements" if r.get("edge_elements") else "end springs (default)"
+    G = r.get("fracture_energy_I", 0.0)
+    return f"{label}, G_I {G:g} J/m2" if G else label
 
 
 def summary_figure(rows: list, path: Path) -> None:

@@ -21,6 +21,7 @@ from .components import exposed_faces, gravity_bundle, loads_bundle, servo_bundl
 from .components.boundaries import prescribe, remove_blocks, set_stress, spread_load
 from .components.servo import servo_row
 from .components import support
+from .contact import softening
 from .contact.contacts import initial_contacts, surface_materials
 from .contact.detection import sort_for_locality
 from .contact.materials import Material, material_table
@@ -31,7 +32,7 @@ from .deformable import held as zone_bc
 from .deformable import setup as zone_setup
 from .geometry.blocks import BlockSystem, group_blocks
 from .jit_cache import compiled
-from .output import io, monitor
+from .output import energy, io, monitor
 from .settings import (SolverOptions, SolveSettings, material_names, new_contact_material,
                        per_block, search_margin)
 from .step import run as stepper
@@ -85,6 +86,7 @@ class Model:
                                                  (self.block_E, self.block_nu), strengths,
                                                  self.group)
         self.kinetic = np.zeros(3)             # Integrator.kinetic: kinetic-damping memory
+        self.energy_bank = np.zeros(len(energy.BANK))   # output.energy: dropped work, origin
         self.search_enabled = True
         self.response_steps = None             # N_r, steps (workflow.response), once measured
         self.gravity = np.zeros(2)             # m/s^2 (components.Gravity)
@@ -103,6 +105,8 @@ class Model:
             self.contacts.partner[:] = -1       # every contact its own spring
         self.props.surface_material[:] = surface_materials(self.contacts, len(blocks.vertices))
         self._stiffen(np.arange(self.contacts.n))
+        softening.check_contacts(self.table, self.contacts)
+        softening.warn_unresolved(self.characteristic_lengths(), blocks.area)
         self.cracks = CrackLog(np.zeros((self.contacts.n + 16, 7)), np.zeros(1, np.int64))
         self.update_timestep()
         self.search()           # touching blocks that share no edge get (unbonded) contacts
@@ -235,6 +239,7 @@ class Model:
             c = self.contacts
             self._stiffen(np.flatnonzero(np.isin(c.material[:c.n], moved)))
             self.update_timestep()
+        softening.check_contacts(self.table, self.contacts)
 
     def set_contact_stress(self, sn, ts=0.0, rows=None):
         """Give contacts a stress (Pa, normal compression +, shear on B along t; scalars or
@@ -246,6 +251,7 @@ class Model:
         the group when none of its blocks is left (removed already, or an empty group)."""
         p = self.props
         self.contacts = remove_blocks(p, self.state, self.contacts, self.group(group), group)
+        energy.reset_origin(self)       # the removed blocks take their energy with them
         if self.water is not None:
             self.water_faces = exposed_faces(self.blocks, p.active)
         self.update_timestep()
@@ -320,6 +326,20 @@ class Model:
     def gravity_energy(self) -> float:
         """J/m, relative to the initial positions (``monitor.gravity_energy``)."""
         return monitor.gravity_energy(self.world(), self.gravity)
+
+    def characteristic_lengths(self) -> dict:
+        """{material: (l_ch_I, l_ch_II)}, m, of the softening materials
+        (``contact.softening.characteristic_lengths``)."""
+        return softening.characteristic_lengths(self.table, self.contacts, self.blocks.area)
+
+    def energy(self) -> dict:
+        """The energy account, J/m: external work, kinetic, strain, fracture, friction and
+        damping terms and their balance (``output.energy.energy_account``)."""
+        return energy.energy_account(self)
+
+    def reset_energy(self):
+        """Start the energy account now (``output.energy.reset_origin``)."""
+        energy.reset_origin(self)
 
     def displacement(self) -> np.ndarray:
         """(nb, 2) centroid displacement from the start, m."""
@@ -396,9 +416,11 @@ class Model:
         """Contact search now (``contact.update.search_contacts``)."""
         new = self.new_contact_material
         new_id = -1 if new is None else self.table.names.index(new)
+        before = self.contacts
         self.contacts, changed = search_contacts(self.world(), self.table, new_id,
                                                  self.search_margin, self._moduli(),
                                                  self.options.divide_interfaces)
+        energy.bank_dropped(self.energy_bank, before, self.contacts)
         if changed:
             self.update_timestep()
 

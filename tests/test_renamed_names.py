@@ -14,7 +14,7 @@ import warnings
 import numpy as np
 import pytest
 
-from dem_core.contact.materials import (COL_BREAKABLE, COL_RESIDUAL_TENSILE_STRENGTH,
+from dem_core.contact.materials import (STRENGTH_COLUMNS, COL_BREAKABLE, COL_RESIDUAL_TENSILE_STRENGTH,
                                         COL_TENSILE_STRENGTH, Material, MaterialTable)
 from dem_core.deformable.zone_plasticity import strength_table
 from dem_core.geometry import GeometrySpec, rectangle
@@ -93,7 +93,7 @@ def test_the_material_table_names_its_strength_columns():
         Material(kn=1.0, ks=1.0, tensile_strength=2.0, residual_tensile_strength=1.0),
         Material(kn=1.0, ks=1.0, tensile_strength=3.0, breakable=False)])
     s = t.strength_array()
-    assert s.shape == (2, 7)
+    assert s.shape == (2, STRENGTH_COLUMNS) == (2, 10)
     assert list(s[:, COL_TENSILE_STRENGTH]) == list(t.tensile_strength) == [2.0, 3.0]
     assert list(s[:, COL_RESIDUAL_TENSILE_STRENGTH]) == list(t.residual_tensile_strength)
     assert list(s[:, COL_BREAKABLE]) == [1.0, 0.0]

@@ -68,6 +68,9 @@ class AdhikaryParams:
     flaw_friction: float = 37.0
     flaw_kn: float = 700e9
     flaw_ks: float = 600e9
+    # fracture energies of the flaws, J/m^2 (0: brittle, the thesis's law; Material)
+    flaw_fracture_energy_I: float = 0.0
+    flaw_fracture_energy_II: float = 0.0
     bedding_cohesion: float = 15e3
     bedding_tensile: float = 0.0
     bedding_residual_cohesion: float = 0.0
@@ -133,7 +136,9 @@ def geometry(p: AdhikaryParams) -> GeometrySpec:
 
 def materials(p: AdhikaryParams) -> dict:
     flaw = Material(kn=p.flaw_kn, ks=p.flaw_ks, tensile_strength=p.flaw_tensile_strength,
-                    cohesion=p.flaw_cohesion, friction=p.flaw_friction)
+                    cohesion=p.flaw_cohesion, friction=p.flaw_friction,
+                    fracture_energy_I=p.flaw_fracture_energy_I,
+                    fracture_energy_II=p.flaw_fracture_energy_II)
     bedding = Material(kn=p.bedding_kn, ks=p.bedding_ks, tensile_strength=p.bedding_tensile,
                        cohesion=p.bedding_cohesion, friction=p.bedding_friction,
                        residual_cohesion=p.bedding_residual_cohesion)

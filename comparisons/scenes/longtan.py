@@ -104,6 +104,9 @@ class LongtanParams:
     flaw_friction: float = 0.0
     flaw_kn: float = 600e9
     flaw_ks: float = 400e9
+    # fracture energies of the flaws, J/m^2 (0: brittle, the thesis's law; Material)
+    flaw_fracture_energy_I: float = 0.0
+    flaw_fracture_energy_II: float = 0.0
     side_friction: float = 37.0
     base_friction: float = 0.0
     block_E: float = 2.0e9
@@ -232,7 +235,9 @@ def geometry(p: LongtanParams) -> GeometrySpec:
 def materials(p: LongtanParams) -> dict:
     flaw = Material(kn=p.flaw_kn, ks=p.flaw_ks, tensile_strength=p.flaw_tensile_strength,
                     cohesion=p.flaw_cohesion, friction=p.flaw_friction,
-                    breakable=not p.conventional)     # conventional: intact rock is glued
+                    breakable=not p.conventional,     # conventional: intact rock is glued
+                    fracture_energy_I=p.flaw_fracture_energy_I,
+                    fracture_energy_II=p.flaw_fracture_energy_II)
     side = Material(kn=p.flaw_kn, ks=p.flaw_ks, tensile_strength=0.0, cohesion=0.0,
                     friction=p.side_friction)
     smeared = dict(cross=1.0 - p.persistence, cross_toe=1.0 - p.persistence_toe)

@@ -81,6 +81,10 @@ class Contacts(NamedTuple):
     up : (cap,) float64, m. Plastic (slip) shear displacement so far.
     broken : (cap,) int8. INTACT, TENSION, SHEAR or UNBONDED.
     slipping : (cap,) int8. 1 if at the Coulomb limit in the last step.
+    damage : (cap,) float64. kappa, the damage variable of a softening bond (0 intact, 1
+        fully softened; ``softening.py``); 0 for every other contact.
+    work_fracture, work_friction : (cap,) float64, J/m. Plastic work the contact has spent so
+        far on softening (fracture) and on slip against friction (per metre of thickness).
     count : (1,) int64. Live contacts.
     """
 
@@ -106,6 +110,9 @@ class Contacts(NamedTuple):
     up: np.ndarray
     broken: np.ndarray
     slipping: np.ndarray
+    damage: np.ndarray
+    work_fracture: np.ndarray
+    work_friction: np.ndarray
     count: np.ndarray
 
     @classmethod
@@ -182,13 +189,16 @@ class Contacts(NamedTuple):
         n = len(d["contacts.block_a"])
         c = cls.empty(int(n * headroom) + 64)
         for name in ARRAYS:
-            if f"contacts.{name}" in d or name != "partner":      # (files before partners)
+            # (files before partners, or before softening: -1 and zeros)
+            if f"contacts.{name}" in d or name not in _ADDED:
                 getattr(c, name)[:n] = d[f"contacts.{name}"]
         c.count[0] = n
         return c
 
 
 ARRAYS = tuple(f for f in Contacts._fields if f != "count")
+# arrays that model files written before them do not have
+_ADDED = ("partner", "damage", "work_fracture", "work_friction")
 
 
 @njit(cache=True)

@@ -105,7 +105,8 @@ def contact_update(k, c, strength, s, rnd, zones):
     displacements and stresses and returns (fx, fy, xa, ya, event): the force on B (N/m; minus
     it on A), the point it acts at (m: A's vertex, or midway between the two faces' points of
     a face contact; with rounded corners ``rnd``, the point of A's arc) and the law's event
-    (1 tension failure, 2 shear failure, 3 slip, 4 open). ``zones``: the deformable blocks'
+    (1 tension failure, 2 shear failure, 3 slip, 4 open, 5 softening; ``law.coulomb_law``,
+    whose damage and plastic work it keeps in the contact). ``zones``: the deformable blocks'
     zones (``deformable.component``; empty: every block rigid, the points are body points),
     whose displacement moves the points. Shared by the serial kernel below and the threaded
     one (``parallel.py``), so both compute the same numbers."""
@@ -123,17 +124,20 @@ def contact_update(k, c, strength, s, rnd, zones):
         u_n = (xb - xa) * nx + (yb - ya) * ny
         reach = u_n
     u_s = (yb - ya) * nx - (xb - xa) * ny
-    s_n, t_s, sn_e, slip, event = coulomb_law(u_n - c.un[k], u_s - c.us[k], c.sn_elastic[k],
-                                              c.ts[k], c.kn[k], c.ks[k], strength,
-                                              c.material[k], c.broken[k])
+    s_n, t_s, sn_e, slip, event, kappa, w_frac, w_fric = coulomb_law(
+        u_n - c.un[k], u_s - c.us[k], c.sn_elastic[k], c.ts[k], c.kn[k], c.ks[k], strength,
+        c.material[k], c.broken[k], c.damage[k])
     c.sn[k] = s_n
     c.ts[k] = t_s
     c.sn_elastic[k] = sn_e
     c.un[k] = u_n
     c.us[k] = u_s
-    c.slipping[k] = 1 if (event == 2 or event == 3) else 0
+    c.slipping[k] = 1 if (event == 2 or event == 3 or (event == 5 and slip != 0.0)) else 0
     if event != 0:                         # (rare: the elastic path writes no more than this)
         c.up[k] += slip
+        c.damage[k] = kappa
+        c.work_fracture[k] += c.length[k] * w_frac
+        c.work_friction[k] += c.length[k] * w_fric
         if event == 1 or event == 2:
             c.broken[k] = event
         _reanchor(k, c, s, xa, ya, xb, yb, reach, nx, ny)

@@ -18,13 +18,17 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .softening import SHAPES, critical_displacement, shape_max_slope
+
 __all__ = ["Material", "MaterialTable", "material_for", "material_table",
            "COL_TENSILE_STRENGTH", "COL_COHESION", "COL_TAN_FRICTION",
            "COL_RESIDUAL_TENSILE_STRENGTH", "COL_RESIDUAL_COHESION",
-           "COL_RESIDUAL_TAN_FRICTION", "COL_BREAKABLE", "STRENGTH_COLUMNS"]
+           "COL_RESIDUAL_TAN_FRICTION", "COL_BREAKABLE", "COL_SOFTENING",
+           "COL_CRITICAL_OPENING", "COL_CRITICAL_SLIP", "STRENGTH_COLUMNS"]
 
 # the columns of ``MaterialTable.strength_array()`` (one row per material), what the kernels
-# read: peak T, c, tan phi, residual T, c, tan phi, and breakable (1.0; 0.0: glued)
+# read: peak T, c, tan phi, residual T, c, tan phi, breakable (1.0; 0.0: glued), and for a
+# softening bond its shape (``softening.SHAPES``; 0: brittle), w_c and s_c (m)
 COL_TENSILE_STRENGTH = 0
 COL_COHESION = 1
 COL_TAN_FRICTION = 2
@@ -32,7 +36,10 @@ COL_RESIDUAL_TENSILE_STRENGTH = 3
 COL_RESIDUAL_COHESION = 4
 COL_RESIDUAL_TAN_FRICTION = 5
 COL_BREAKABLE = 6
-STRENGTH_COLUMNS = 7
+COL_SOFTENING = 7
+COL_CRITICAL_OPENING = 8
+COL_CRITICAL_SLIP = 9
+STRENGTH_COLUMNS = 10
 
 
 @dataclass(frozen=True)
@@ -53,6 +60,13 @@ class Material:
         Friction after failure, degrees; None keeps the peak friction (the thesis's law).
     breakable : bool
         False makes the contact glued: elastic with no strength limit.
+    fracture_energy_I, fracture_energy_II : float
+        G_I, G_II, J/m^2 (>= 0; default 0: brittle, the thesis's law). Either above 0 makes a
+        bond soften after its peak (``softening.py``): tension and cohesion fall to their
+        residuals over the critical opening w_c = G_I / ((T - T_res) A_f) and slip
+        s_c = G_II / ((c - c_res) A_f).
+    softening : str
+        The softening shape, "linear" (A_f = 1/2) or "hordijk" (A_f = 0.1947).
     """
 
     kn: float
@@ -64,6 +78,9 @@ class Material:
     residual_cohesion: float = 0.0
     residual_friction: float | None = None
     breakable: bool = True
+    fracture_energy_I: float = 0.0
+    fracture_energy_II: float = 0.0
+    softening: str = "linear"
 
     def validated(self, name: str = "material") -> "Material":
         """Return self after checking every value; raise ValueError naming the bad one."""
@@ -76,13 +93,41 @@ class Material:
             v = getattr(self, field_name)
             if not (math.isfinite(v) and v >= 0):
                 raise ValueError(f"{name}: {field_name} must be finite and >= 0 Pa, got {v!r}")
+        for field_name in ("fracture_energy_I", "fracture_energy_II"):
+            v = getattr(self, field_name)
+            if not (isinstance(v, (int, float, np.floating, np.integer)) and math.isfinite(v)
+                    and v >= 0):
+                raise ValueError(f"{name}: {field_name} must be finite and >= 0 J/m^2, got {v!r}")
+        if self.softening not in SHAPES:
+            raise ValueError(f"{name}: softening must be one of {sorted(SHAPES)}, got "
+                             f"{self.softening!r}")
         for field_name in ("friction", "residual_friction"):
             v = getattr(self, field_name)
             if v is None:
                 continue
             if not (math.isfinite(v) and 0 <= v < 90):
                 raise ValueError(f"{name}: {field_name} must be in [0, 90) degrees, got {v!r}")
+        check_snap_back(name, self.kn, self.ks, self)
         return self
+
+    @property
+    def softens(self) -> bool:
+        """A bond with a fracture energy: it softens after its peak (``softening.py``)."""
+        bond = (self.tensile_strength > self.residual_tensile_strength
+                or self.cohesion > self.residual_cohesion)
+        return bond and self.breakable and (self.fracture_energy_I > 0
+                                            or self.fracture_energy_II > 0)
+
+    def critical_opening(self) -> float:
+        """w_c, m (0: brittle in tension)."""
+        return critical_displacement(self.fracture_energy_I,
+                                     self.tensile_strength - self.residual_tensile_strength,
+                                     self.softening)
+
+    def critical_slip(self) -> float:
+        """s_c, m (0: brittle in shear)."""
+        return critical_displacement(self.fracture_energy_II,
+                                     self.cohesion - self.residual_cohesion, self.softening)
 
     def with_strength(self, **changes) -> "Material":
         """A copy with some fields changed (e.g. ``tensile_strength=0.5e6``), validated."""
@@ -101,6 +146,8 @@ class MaterialTable:
     residual_tensile_strength, res_cohesion, res_tan_friction : (nm,) float64. Residual
         values.
     breakable : (nm,) int8. 0 = glued.
+    softening : (nm,) float64. The shape code of a softening bond (``softening.SHAPES``), 0
+        brittle. critical_opening, critical_slip : (nm,) float64, m. w_c and s_c.
     """
 
     names: list
@@ -113,6 +160,9 @@ class MaterialTable:
     res_cohesion: np.ndarray
     res_tan_friction: np.ndarray
     breakable: np.ndarray
+    softening: np.ndarray = None
+    critical_opening: np.ndarray = None
+    critical_slip: np.ndarray = None
 
     @classmethod
     def from_materials(cls, names, materials) -> "MaterialTable":
@@ -135,6 +185,9 @@ class MaterialTable:
             res_tan_friction=col(lambda m: tan(m.friction if m.residual_friction is None
                                                else m.residual_friction)),
             breakable=np.array([1 if m.breakable else 0 for m in mats], dtype=np.int8),
+            softening=col(lambda m: SHAPES[m.softening] if m.softens else 0),
+            critical_opening=col(lambda m: m.critical_opening() if m.softens else 0.0),
+            critical_slip=col(lambda m: m.critical_slip() if m.softens else 0.0),
         )
 
     def bonded(self) -> np.ndarray:
@@ -144,14 +197,17 @@ class MaterialTable:
                 | (self.breakable == 0))
 
     def strength_array(self) -> np.ndarray:
-        """(nm, 7) float64 rows [T, c, tan phi, T_res, c_res, tan phi_res, breakable] for kernels
-        (the columns ``COL_TENSILE_STRENGTH`` ... ``COL_BREAKABLE``)."""
+        """(nm, 10) float64 rows [T, c, tan phi, T_res, c_res, tan phi_res, breakable, softening
+        shape, w_c, s_c] for kernels (the columns ``COL_TENSILE_STRENGTH`` ...
+        ``COL_CRITICAL_SLIP``)."""
         cols = {COL_TENSILE_STRENGTH: self.tensile_strength, COL_COHESION: self.cohesion,
                 COL_TAN_FRICTION: self.tan_friction,
                 COL_RESIDUAL_TENSILE_STRENGTH: self.residual_tensile_strength,
                 COL_RESIDUAL_COHESION: self.res_cohesion,
                 COL_RESIDUAL_TAN_FRICTION: self.res_tan_friction,
-                COL_BREAKABLE: self.breakable.astype(np.float64)}
+                COL_BREAKABLE: self.breakable.astype(np.float64),
+                COL_SOFTENING: self.softening, COL_CRITICAL_OPENING: self.critical_opening,
+                COL_CRITICAL_SLIP: self.critical_slip}
         return np.ascontiguousarray(np.column_stack([cols[k] for k in range(STRENGTH_COLUMNS)]))
 
 
@@ -192,3 +248,27 @@ def material_table(material_names, mapping: dict, unbreakable: str | None = None
         mats = [replace(m, breakable=False) if fnmatch.fnmatchcase(n, unbreakable) else m
                 for n, m in zip(names, mats)]
     return MaterialTable.from_materials(names, mats)
+
+
+def check_snap_back(name, kn, ks, m: Material) -> None:
+    """ValueError naming the material when its softening would snap back at a contact of
+    stiffness kn, ks (Pa/m): the return (``softening.return_to_envelope``) has one solution
+    only while k L > drop max|f'| (L = w_c or s_c), i.e. while the elastic displacement at the
+    peak, drop / k, is shorter than the softening. (Friction softening is checked at zero
+    normal stress.) kn, ks may be arrays (the contacts' series stiffness)."""
+    if not m.softens:
+        return
+    slope = shape_max_slope(m.softening)
+    for mode, G, k, L, drop in (
+            ("fracture_energy_I", m.fracture_energy_I, kn, m.critical_opening(),
+             m.tensile_strength - m.residual_tensile_strength),
+            ("fracture_energy_II", m.fracture_energy_II, ks, m.critical_slip(),
+             m.cohesion - m.residual_cohesion)):
+        k_min = float(np.min(k))
+        if L > 0.0 and k_min * L <= drop * slope:
+            need = G * drop * slope / (k_min * L)      # L grows in proportion to G
+            raise ValueError(
+                f"{name}: {mode}={G!r} J/m^2 is too small for a contact stiffness of "
+                f"{k_min:.4g} Pa/m: the {m.softening} softening would snap back (the peak's "
+                f"elastic displacement {drop / k_min:.3g} m against a softening length of "
+                f"{L:.3g} m); it needs {mode} > {need:.4g} J/m^2")

@@ -12,7 +12,10 @@ Format versions: 1, files written before the format was versioned (2026-11-24 to
 options as attributes, ``fixed_dt`` for the option ``dt``, the options added later missing);
 2, the ``SolverOptions`` record under ``meta["options"]``; 3 (2026-11-29), without the
 ``control`` arrays of the cables, liners and zones bundles (copies of the model's dt, damping,
-time and gravity, from when those parts had their own clock: the step now gives them its own).
+time and gravity, from when those parts had their own clock: the step now gives them its own);
+4 (2026-11-29), with the softening bonds' damage and the energy account (the contacts'
+``damage``, ``work_fracture``, ``work_friction``, the blocks' ``work``, ``energy_bank``): files
+before it read as undamaged, with nothing spent so far.
 """
 from __future__ import annotations
 
@@ -28,6 +31,7 @@ from ..components.water import exposed_faces
 from ..contact.contacts import Contacts
 from ..contact.materials import material_table
 from ..contact.rounding import rounding_bundle
+from .energy import BANK
 from .monitor import History
 from ..components.cables import Cables, no_cables
 from ..deformable.component import Deformable, no_deformable
@@ -36,14 +40,14 @@ from ..step.state import BlockProps, BlockState, CrackLog
 
 __all__ = ["save_parts", "load_parts", "write_model", "read_model", "RUNNING", "FORMAT"]
 
-FORMAT = 3
+FORMAT = 4
 
 # What changes while a model runs (``Model.snapshot``/``restore`` copy these attributes); the
 # rest is fixed when it is built, or changed only by ``Model.set_options``.
 RUNNING = ("props", "state", "contacts", "cracks", "materials", "table", "gravity", "load",
            "servo_groups", "time", "step", "dt", "critical_dt", "kinetic", "history",
            "points", "search_enabled", "water", "water_faces", "cables", "liners",
-           "zone_state", "response_steps")
+           "zone_state", "response_steps", "energy_bank")
 _CLOCK = ("time", "step", "dt", "critical_dt", "search_enabled", "response_steps")
 
 _BS_ARRAYS = ("vertices", "vertex_offsets", "centroid", "area", "region_id", "edge_p0",
@@ -134,7 +138,7 @@ def write_model(path, model) -> None:
     """Write ``model`` (a ``dem_core.model.Model``, only read) to ``path`` (.npz)."""
     bundles = {k: getattr(model, k) for k in _BUNDLES}
     arrays = {k: getattr(model, k) for k in ("block_E", "block_nu", "gravity", "load",
-                                              "kinetic")}
+                                              "kinetic", "energy_bank")}
     options = {k: v for k, v in dataclasses.asdict(model.options).items()
                if k not in ("block_E", "block_nu")}
     meta = {"format": FORMAT, "options": options,
@@ -164,6 +168,7 @@ def read_model(path, material, water_table) -> dict:
            "history": parts["history"]}
     out["table"] = material_table(meta["table_names"], out["materials"], options.unbreakable)
     out.update({k: a[k] for k in ("block_E", "block_nu", "gravity", "load", "kinetic")})
+    out["energy_bank"] = a.get("energy_bank", np.zeros(len(BANK)))   # (files before it)
     out.update({k: parts["bundles"][k] for k in ("props", "state", "cracks")})
     out["cables"] = parts["bundles"].get("cables", no_cables())
     out["liners"] = parts["bundles"].get("liners", no_liners())
@@ -188,6 +193,9 @@ def _upgrade(meta, path) -> dict:
     if version == 2:
         meta = _from_2(meta)
         version = 3
+    if version == 3:
+        meta = dict(meta, format=4)     # the added arrays default to zero (``Contacts``,
+        version = 4                     # ``BlockState.fields_of_old_files``, ``read_model``)
     if version != FORMAT:
         raise ValueError(f"{path}: a model file of format {version}; this dem_core reads "
                          f"formats 1 to {FORMAT}: save it again with a dem_core that knows it")

@@ -12,7 +12,11 @@ For each free velocity component:  F_d = f - alpha |f| sign(v)   (local non-visc
                                    structure"; Itasca's UDEC manual)
                                    v  += F_d / m_inertial * kick
 prescribed components:             v   = v_bc
-then x += v dt, theta += omega dt, rot = R(theta). ``kick`` (s) is ``dt``, or ``dt / 2`` on the
+then x += v dt, theta += omega dt, rot = R(theta). The energy account (``BlockState.work``,
+``output.energy``) adds, per component, the work put in through a prescribed one, -f v_bc dt
+(the force the contacts and gravity put on the block, held at its velocity), and what local
+damping took out of a free one, (f - F_d) (v_old + v_new) / 2 kick (the kinetic-energy change
+the damping force made over the kick). ``kick`` (s) is ``dt``, or ``dt / 2`` on the
 first step after a kinetic-damping stop (``step.relaxation``). The same for every support node
 and gridpoint (velocities at half steps, positions by v dt).
 
@@ -83,18 +87,28 @@ def advance_range(s, p, integ, kick, i0, i1, blocks):
         if not p.active[i]:
             continue
         fx = p.fixity[i]
+        f, work = s.force, s.work
         if fx & 1:
             vel[i, 0] = p.velocity_bc[i, 0]
+            work[i, 0] -= f[i, 0] * vel[i, 0] * dt
         else:
-            vel[i, 0] += damped(s.force[i, 0], vel[i, 0], alpha) * p.inv_mass[i] * kick
+            v0, fd = vel[i, 0], damped(f[i, 0], vel[i, 0], alpha)
+            vel[i, 0] += fd * p.inv_mass[i] * kick
+            work[i, 1] += (f[i, 0] - fd) * 0.5 * (v0 + vel[i, 0]) * kick
         if fx & 2:
             vel[i, 1] = p.velocity_bc[i, 1]
+            work[i, 0] -= f[i, 1] * vel[i, 1] * dt
         else:
-            vel[i, 1] += damped(s.force[i, 1], vel[i, 1], alpha) * p.inv_mass[i] * kick
+            v0, fd = vel[i, 1], damped(f[i, 1], vel[i, 1], alpha)
+            vel[i, 1] += fd * p.inv_mass[i] * kick
+            work[i, 1] += (f[i, 1] - fd) * 0.5 * (v0 + vel[i, 1]) * kick
         if fx & 4:
             omega[i] = p.velocity_bc[i, 2]
+            work[i, 0] -= f[i, 2] * omega[i] * dt
         else:
-            omega[i] += damped(s.force[i, 2], omega[i], alpha) * p.inv_inertia[i] * kick
+            v0, fd = omega[i], damped(f[i, 2], omega[i], alpha)
+            omega[i] += fd * p.inv_inertia[i] * kick
+            work[i, 1] += (f[i, 2] - fd) * 0.5 * (v0 + omega[i]) * kick
         v_max = 0.1 * p.radius[i] / dt
         if not (vel[i, 0] * vel[i, 0] + vel[i, 1] * vel[i, 1] <= v_max * v_max
                 and abs(omega[i]) * dt <= 0.1):             # also catches NaN

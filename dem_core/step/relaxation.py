@@ -104,9 +104,16 @@ def stop_free_motion(s, p, zones, parts):
         if not p.active[i]:
             continue
         fx = p.fixity[i]
+        # the energy account: the stop takes the kinetic energy out (inertial masses)
         if not fx & 1:
+            if p.inv_mass[i] > 0.0:
+                s.work[i, 1] += 0.5 * s.vel[i, 0] * s.vel[i, 0] / p.inv_mass[i]
             s.vel[i, 0] = 0.0
         if not fx & 2:
+            if p.inv_mass[i] > 0.0:
+                s.work[i, 1] += 0.5 * s.vel[i, 1] * s.vel[i, 1] / p.inv_mass[i]
             s.vel[i, 1] = 0.0
         if not fx & 4:
+            if p.inv_inertia[i] > 0.0:
+                s.work[i, 1] += 0.5 * s.omega[i] * s.omega[i] / p.inv_inertia[i]
             s.omega[i] = 0.0

@@ -82,6 +82,9 @@ class BlockState(NamedTuple):
         before damping.
     pos0 : (nb, 2), theta0 : (nb,). Pose at the start (displacements are measured from here).
     pos_search : (nb, 2), theta_search : (nb,). Pose at the last contact search.
+    work : (nb, 2) float64, J/m. Energy account of each block so far (``output.energy``):
+        [:, 0] work done on the model through its prescribed velocity components, [:, 1]
+        energy its local damping and kinetic-damping stops took out.
     """
 
     pos: np.ndarray
@@ -95,6 +98,12 @@ class BlockState(NamedTuple):
     theta0: np.ndarray
     pos_search: np.ndarray
     theta_search: np.ndarray
+    work: np.ndarray
+
+    @staticmethod
+    def fields_of_old_files(held) -> dict:
+        """A model file from before the energy account: nothing done so far (``io``)."""
+        return {"work": np.zeros((held["pos"].shape[0], 2))}
 
 
 class CrackLog(NamedTuple):
@@ -168,7 +177,8 @@ def state_at_rest(centroid) -> BlockState:
     return BlockState(pos=c.copy(), theta=np.zeros(nb), rot=rot, rot_half=rot_half,
                       vel=np.zeros((nb, 2)),
                       omega=np.zeros(nb), force=np.zeros((nb, 3)), pos0=c.copy(),
-                      theta0=np.zeros(nb), pos_search=c.copy(), theta_search=np.zeros(nb))
+                      theta0=np.zeros(nb), pos_search=c.copy(), theta_search=np.zeros(nb),
+                      work=np.zeros((nb, 2)))
 
 
 def copy_bundle(bundle):
