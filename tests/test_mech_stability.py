@@ -20,9 +20,11 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 from scenes import specimen  # noqa: E402  (benchmarks/scenes.py)
 
 
-def run_released(bs, kn, ks, g_level=1.0, friction=35.0, steps=3000, **kw):
+def run_released(bs, kn, ks, g_level=1.0, friction=35.0, steps=3000, fracture_energy=0.0,
+                 **kw):
     mats = {"flaw:*": Material(kn=kn, ks=ks, tensile_strength=1e5, cohesion=2e5,
-                               friction=friction),
+                               friction=friction, fracture_energy_I=fracture_energy,
+                               fracture_energy_II=5 * fracture_energy),
             "boundary:*": Material(kn=kn, ks=ks, friction=friction)}
     m = Model(bs, mats, density=2500, damping=0.0, **kw)
     m.fix("base")
@@ -45,6 +47,9 @@ CASES = {
     "kn/ks 100": dict(kn=1e11, ks=1e9),
     "150 g": dict(kn=1e11, ks=5e10, g_level=150.0),
     "zero friction": dict(kn=1e10, ks=5e9, friction=0.0),
+    # softening flaws (contact.softening) past their peak: the branch's negative tangent
+    # needs no smaller step (G_I 1 J/m^2, 20x the snap-back limit T^2 / 2kn)
+    "softening 3000 g": dict(kn=1e11, ks=5e10, g_level=3000.0, fracture_energy=1.0),
 }
 
 
