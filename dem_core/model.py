@@ -361,7 +361,8 @@ class Model:
     def _record(self):
         self.history.record(monitor.history_row(self.step, self.time, self.unbalanced_ratio(),
                                                 self.kinetic_energy(), self.crack_counts(),
-                                                {n: self.point_motion(n) for n in self.points}))
+                                                {n: self.point_motion(n) for n in self.points},
+                                                self.energy()))
 
     # ----------------------------------------------------------------- running
     def _run(self, n):

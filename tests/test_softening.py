@@ -193,3 +193,14 @@ def test_a_contact_softer_than_its_material_is_checked_for_snap_back():
     with pytest.raises(ValueError, match="flaw:row: the fracture_energy_I softening would snap "
                                          "back at a contact of stiffness"):
         Model(bs, {"flaw:row": flaw, "flaw:glue": glue}, density=2500, block_E=20e9)
+
+
+def test_the_histories_carry_the_energy_account():
+    m = bar(2, row_material(G_I=100.0, G_II=200.0))
+    m.history.every = 100
+    w_c = m.table.critical_opening[m.table.names.index("flaw:row")]
+    pull(m, (w_c + T / KN) / (1000 * m.dt), 0.0, 1.2 * w_c + T / KN)
+    h = m.history.as_arrays()
+    assert h["energy_fracture"][-1] == pytest.approx(m.energy()["fracture"], rel=0.05)
+    assert np.all(np.diff(h["energy_fracture"]) >= 0)           # dissipation only grows
+    assert np.abs(h["energy_balance"]).max() < 0.01 * h["energy_external"].max()

@@ -288,11 +288,18 @@ def gravity_energy(world, gravity) -> float:
     return e
 
 
-def history_row(step, time, ratio, kinetic, cracks, motions) -> dict:
+# the energy account's terms a history keeps (``output.energy``), as columns "energy_<term>"
+ENERGY_COLUMNS = ("external", "strain", "fracture", "friction", "damping", "balance")
+
+
+def history_row(step, time, ratio, kinetic, cracks, motions, energy=None) -> dict:
     """One row of the histories: step, time (s), unbalanced ratio, kinetic energy (J/m), the
-    crack counts, and each point's ux, uy (m), vx, vy (m/s) (``motions``: name -> tuple)."""
+    crack counts, each point's ux, uy (m), vx, vy (m/s) (``motions``: name -> tuple) and the
+    energy account's terms (``energy``: ``energy_account``'s dict; J/m)."""
     row = {"step": step, "time": time, "ratio": ratio, "kinetic_energy": kinetic}
     row.update({f"cracks_{k}": v for k, v in cracks.items()})
+    if energy is not None:
+        row.update({f"energy_{k}": energy[k] for k in ENERGY_COLUMNS})
     for name, (ux, uy, vx, vy) in motions.items():
         row.update({f"{name}.ux": ux, f"{name}.uy": uy, f"{name}.vx": vx, f"{name}.vy": vy})
     return row
