@@ -72,8 +72,12 @@ def coulomb_law(du_n, du_s, sn_e, ts, kn, ks, strength, m, broken, kappa):
     softening. kappa : the new damage variable. w_fracture, w_friction : plastic work of the
     step per unit area, J/m^2 (softening; slip against friction).
     """
-    if broken == 0 and strength[m, COL_SOFTENING] != 0.0:
+    # a softening bond takes its own law once damaged, or when it first yields (its elastic
+    # steps at the peak envelope are the brittle law's, and cost no more)
+    soft = broken == 0 and strength[m, COL_SOFTENING] != 0.0
+    if soft and kappa > 0.0:
         return softening_law(du_n, du_s, sn_e, ts, kn, ks, strength, m, kappa)
+    sn_e0 = sn_e
     sn_e = sn_e - kn * du_n
     trial = ts - ks * du_s
     if strength[m, COL_BREAKABLE] == 0.0:         # glued: elastic, no limit
@@ -91,6 +95,8 @@ def coulomb_law(du_n, du_s, sn_e, ts, kn, ks, strength, m, broken, kappa):
         tanphi = strength[m, COL_RESIDUAL_TAN_FRICTION]
         bond = False
     if sn_e < -T:                                  # tension cut-off (separation)
+        if soft:
+            return softening_law(du_n, du_s, sn_e0, ts, kn, ks, strength, m, kappa)
         if bond:                   # the springs let go their energy at the cut-off
             return 0.0, 0.0, sn_e, du_s - ts / ks, TENSION_FAILURE, kappa, \
                 0.5 * (T * T / kn + ts * ts / ks), 0.0
@@ -99,6 +105,8 @@ def coulomb_law(du_n, du_s, sn_e, ts, kn, ks, strength, m, broken, kappa):
     if tau_max < 0.0:
         tau_max = 0.0
     if abs(trial) > tau_max:
+        if soft:
+            return softening_law(du_n, du_s, sn_e0, ts, kn, ks, strength, m, kappa)
         t = tau_max if trial > 0.0 else -tau_max
         slip = (t - trial) / ks
         if bond:           # the drop to the residual, released by the next steps' slip
