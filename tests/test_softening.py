@@ -204,3 +204,22 @@ def test_the_histories_carry_the_energy_account():
     assert h["energy_fracture"][-1] == pytest.approx(m.energy()["fracture"], rel=0.05)
     assert np.all(np.diff(h["energy_fracture"]) >= 0)           # dissipation only grows
     assert np.abs(h["energy_balance"]).max() < 0.01 * h["energy_external"].max()
+
+
+def test_a_scene_file_gives_softening_flaws_and_refuses_a_snap_back_value(tmp_path):
+    import json
+    from dem_core.workflow.scene import Scene, build_model
+    from test_scene import column_scene
+
+    d = column_scene().to_dict()
+    d["materials"]["*"].update(fracture_energy_I=500.0, fracture_energy_II=4000.0,
+                               softening="hordijk")
+    path = tmp_path / "soft.json"
+    path.write_text(json.dumps(d))
+    m = build_model(Scene.load(path))
+    assert list(m.table.softening) == [2.0] * len(m.table.names)     # every material: "*"
+    assert m.table.critical_opening == pytest.approx(500.0 / (1e6 * shape_area("hordijk")))
+    d["materials"]["*"].update(fracture_energy_I=1e-3)
+    path.write_text(json.dumps(d))
+    with pytest.raises(ValueError, match=r"fracture_energy_I=0\.001 J/m\^2 is too small"):
+        Scene.load(path)
