@@ -106,7 +106,7 @@ class Model:
         self.props.surface_material[:] = surface_materials(self.contacts, len(blocks.vertices))
         self._stiffen(np.arange(self.contacts.n))
         softening.check_contacts(self.table, self.contacts)
-        softening.warn_unresolved(self.characteristic_lengths(), blocks.area)
+        softening.warn_unresolved(self.characteristic_lengths())
         self.cracks = CrackLog(np.zeros((self.contacts.n + 16, 7)), np.zeros(1, np.int64))
         self.update_timestep()
         self.search()           # touching blocks that share no edge get (unbonded) contacts
@@ -328,9 +328,9 @@ class Model:
         return monitor.gravity_energy(self.world(), self.gravity)
 
     def characteristic_lengths(self) -> dict:
-        """{material: (l_ch_I, l_ch_II)}, m, of the softening materials
+        """{material: (l_ch_I, l_ch_II, block spacing d)}, m, of the softening materials
         (``contact.softening.characteristic_lengths``)."""
-        return softening.characteristic_lengths(self.table, self.contacts, self.blocks.area)
+        return softening.characteristic_lengths(self.table, self.contacts, self.state.pos)
 
     def energy(self) -> dict:
         """The energy account, J/m: external work, kinetic, strain, fracture, friction and

@@ -164,12 +164,13 @@ def test_snap_back_and_bad_fracture_energies_are_refused_naming_the_value():
 
 
 def test_the_characteristic_length_is_reported_and_blocks_larger_than_it_are_warned():
-    from dem_core.contact.elastic import lattice_moduli, spacing_from_area
+    from dem_core.contact.elastic import lattice_moduli
     from dem_core.contact.softening import SofteningResolutionWarning
     G_I = 100.0
     m = bar(4, row_material(G_I=G_I, G_II=200.0))
-    l_I, l_II = m.characteristic_lengths()["flaw:row"]
-    E = lattice_moduli(KN, KN, spacing_from_area(0.25 * 0.25))["E_2d"]
+    l_I, l_II, d = m.characteristic_lengths()["flaw:row"]
+    assert d == pytest.approx(0.25)                     # the row's blocks' centroids
+    E = lattice_moduli(KN, KN, 0.25)["E_2d"]
     assert l_I == pytest.approx(E * G_I / T ** 2)       # Hillerborg's E' G_I / T^2
     assert "flaw:glue" not in m.characteristic_lengths()
     assert l_I > 0.25 and l_II > 0.25                   # resolved: no warning was given

@@ -48,7 +48,7 @@ import warnings
 import numpy as np
 from numba import njit
 
-from .elastic import lattice_moduli, spacing_from_area
+from .elastic import lattice_moduli
 
 __all__ = ["SHAPES", "shape_area", "shape_max_slope", "critical_displacement",
            "return_to_envelope", "shape_value", "shape_integral", "check_contacts",
@@ -167,27 +167,31 @@ def check_contacts(table, contacts) -> None:
                  table.cohesion[i] - table.res_cohesion[i])):
             k_min = float(k.min())
             if L > 0.0 and k_min * L <= drop * slope:
+                G = L * drop * shape_integral(int(table.softening[i]), 1.0)
                 raise ValueError(
                     f"{table.names[i]}: the {mode} softening would snap back at a contact of "
                     f"stiffness {k_min:.4g} Pa/m (in series with its blocks): the peak's elastic "
-                    f"displacement {drop / k_min:.3g} m against a softening length of {L:.3g} m")
+                    f"displacement {drop / k_min:.3g} m against a softening length of {L:.3g} m;"
+                    f" it needs {mode} > {G * drop * slope / (k_min * L):.4g} J/m^2")
 
 
-def characteristic_lengths(table, contacts, block_area) -> dict:
-    """{material name: (l_ch_I, l_ch_II)}, m, of every softening material (Hillerborg's
-    l_ch = E' G_I / T^2 and its shear analogue G_mod G_II / c^2, with the drops T - T_res and
-    c - c_res), E' and G_mod the plane moduli of the block assembly its contacts make
-    (``elastic.lattice_moduli`` with the median contact stiffness and the median block's
-    spacing)."""
+def characteristic_lengths(table, contacts, pos) -> dict:
+    """{material name: (l_ch_I, l_ch_II, d)}, m, of every softening material: Hillerborg's
+    l_ch = E' G_I / T^2 and its shear analogue G_mod G_II / c^2 (with the drops T - T_res and
+    c - c_res), E' and G_mod the plane moduli of the lattice its contacts make
+    (``elastic.lattice_moduli`` with their median stiffness and d, the median distance
+    between the centroids ``pos`` of the two blocks of each of its contacts: the blocks'
+    size where that material is)."""
     out = {}
     m = contacts.live("material")
-    d = spacing_from_area(float(np.median(block_area)))
+    a, b = contacts.live("block_a"), contacts.live("block_b")
     for i in np.flatnonzero(table.softening > 0):
         mine = m == i
         if not mine.any():
             continue
         kn = float(np.median(contacts.live("kn")[mine]))
         ks = float(np.median(contacts.live("ks")[mine]))
+        d = float(np.median(np.hypot(*(pos[a[mine]] - pos[b[mine]]).T)))
         mod = lattice_moduli(kn, ks, d)          # E_2d: plane strain's E / (1 - nu^2)
         E, G_mod = mod["E_2d"], mod["E_2d"] / (2.0 * (1.0 + mod["nu_2d"]))
         dT = table.tensile_strength[i] - table.residual_tensile_strength[i]
@@ -196,7 +200,7 @@ def characteristic_lengths(table, contacts, block_area) -> dict:
         G_I = table.critical_opening[i] * dT * area
         G_II = table.critical_slip[i] * dc * area
         out[table.names[i]] = (E * G_I / dT ** 2 if dT > 0 else 0.0,
-                               G_mod * G_II / dc ** 2 if dc > 0 else 0.0)
+                               G_mod * G_II / dc ** 2 if dc > 0 else 0.0, d)
     return out
 
 
@@ -204,15 +208,15 @@ class SofteningResolutionWarning(UserWarning):
     """Blocks larger than a softening material's characteristic length."""
 
 
-def warn_unresolved(lengths: dict, block_area) -> None:
-    """One warning per softening material whose characteristic length is shorter than the
-    median block (sqrt of its area): the softening zone is then narrower than a block, and
-    the answer again depends on block size (Bazant & Oh 1983's crack band condition)."""
-    h = math.sqrt(float(np.median(block_area)))
-    for name, (l_I, l_II) in lengths.items():
+def warn_unresolved(lengths: dict) -> None:
+    """One warning per softening material whose characteristic length is shorter than its
+    blocks (d of ``characteristic_lengths``): the softening zone is then narrower than a
+    block, and the answer again depends on block size (Bazant & Oh 1983's crack band
+    condition)."""
+    for name, (l_I, l_II, d) in lengths.items():
         short = [f"{mode} = {l:.3g} m" for mode, l in (("l_ch_I", l_I), ("l_ch_II", l_II))
-                 if 0.0 < l < h]
+                 if 0.0 < l < d]
         if short:
-            warnings.warn(f"{name}: blocks of {h:.3g} m are larger than its characteristic "
+            warnings.warn(f"{name}: blocks of {d:.3g} m are larger than its characteristic "
                           f"length ({', '.join(short)}); use blocks smaller than l_ch or a "
                           "larger fracture energy", SofteningResolutionWarning, stacklevel=3)
