@@ -8,11 +8,14 @@ from dem_core.contact.materials import Material
 from dem_core.model import Model
 
 
-def _run(threads, edges=False, load=False, rounding=0.0):
+def _run(threads, edges=False, load=False, rounding=0.0, soft=False):
     bs = build_block_system(GeometrySpec(
         [rectangle("rock", 0, 0, 0.1, 0.05), rectangle("base", 0, -0.01, 0.1, 0)],
         voronoi={"rock": Voronoi(edge_length=0.006, seed=2)}))
-    flaw = Material(kn=1e10, ks=5e9, tensile_strength=2e4, cohesion=4e4, friction=35)
+    # soft: softening flaws (contact.softening), 25 and 12 times their snap-back limits
+    flaw = Material(kn=1e10, ks=5e9, tensile_strength=2e4, cohesion=4e4, friction=35,
+                    fracture_energy_I=0.5 if soft else 0.0,
+                    fracture_energy_II=2.0 if soft else 0.0)
     model = Model(bs, {"flaw:*": flaw, "boundary:*": flaw}, density=2500.0, threads=threads,
                   edge_elements=edges, rounding=rounding)
     model.fix("base")
@@ -26,14 +29,21 @@ def _run(threads, edges=False, load=False, rounding=0.0):
 # gravity alone: one parallel region per step (contacts, gravity and moves of the owned
 # blocks); with a load: the contact region, the other forces, the serial integration
 @pytest.mark.skipif(numba.config.NUMBA_NUM_THREADS < 2, reason="needs 2 threads")
-@pytest.mark.parametrize("edges, load, rounding", [(False, False, 0.0), (True, False, 0.0),
-                                                   (True, True, 0.0), (False, False, 2e-4)])
-def test_threaded_kernel_is_bit_for_bit_serial(monkeypatch, edges, load, rounding):
+@pytest.mark.parametrize("edges, load, rounding, soft", [
+    (False, False, 0.0, False), (True, False, 0.0, False), (True, True, 0.0, False),
+    (False, False, 2e-4, False), (True, True, 0.0, True), (False, False, 2e-4, True)])
+def test_threaded_kernel_is_bit_for_bit_serial(monkeypatch, edges, load, rounding, soft):
     monkeypatch.setattr("dem_core.step.threads.parallel.MIN_CONTACTS", 0)     # a small model, threaded
     monkeypatch.setattr("dem_core.step.threads.region.MIN_CONTACTS", 0)
-    serial = _run(1, edges, load, rounding)
-    threaded = _run(2, edges, load, rounding)
-    assert serial.crack_counts()["tension"] + serial.crack_counts()["shear"] > 0
+    serial = _run(1, edges, load, rounding, soft)
+    threaded = _run(2, edges, load, rounding, soft)
+    if soft:                    # softening, not yet fully softened within these steps
+        assert (serial.contacts.live("damage") > 0).sum() > 10
+        for name in ("damage", "work_fracture", "work_friction"):
+            assert np.array_equal(serial.contacts.live(name), threaded.contacts.live(name))
+        assert np.array_equal(serial.state.work, threaded.state.work)
+    else:
+        assert serial.crack_counts()["tension"] + serial.crack_counts()["shear"] > 0
     assert np.array_equal(serial.state.pos, threaded.state.pos)
     assert np.array_equal(serial.state.theta, threaded.state.theta)
     np.testing.assert_array_equal(serial.crack_log()["x"], threaded.crack_log()["x"])
