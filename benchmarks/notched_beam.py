@@ -2,7 +2,7 @@
 
     python benchmarks/notched_beam.py                       # block sizes x seeds, G_I and G -> 0
     python benchmarks/notched_beam.py --sizes 4 3 --seeds 1 --quick
-    python benchmarks/notched_beam.py --size-effect         # W from about l_ch to 10 l_ch
+    python benchmarks/notched_beam.py --size-effect         # W = 1, 2, 4, 8 l_ch
 
 A beam of depth W, span S = 4 W (length 4.5 W), with a notch of depth a = W/2 and width W/40
 cut at mid-span, of the thesis's plaster (E = 4.5 GPa, T = 1.1 MPa, c = 1.6 MPa, phi = 37 deg),
@@ -145,10 +145,10 @@ def main():
     if a.size_effect:
         G_I = a.G[0]
         l_ch = E / (1 - NU ** 2) * G_I / T ** 2
-        for k in (1, 2, 4, 10):
+        for k in (1, 2, 4, 8):
             W = k * l_ch
-            h = min(a.sizes) * 1e-3
-            r = run(W, max(h, W / 40), 1, G_I, quick=a.quick)
+            h = min(l_ch / 4, W / 10)          # l_ch resolved, and 10 blocks across at least
+            r = run(W, h, 1, G_I, quick=a.quick)
             r["P_LEFM"] = p_lefm(W, G_I)
             r["sigma_N"] = 1.5 * r["P_peak"] * 4 * W / W ** 2
             print(json.dumps({k2: v for k2, v in r.items() if k2 != "curve"}), flush=True)
