@@ -2,6 +2,7 @@
 Newton iterations / failures of the continuum for hard Hoek-Brown and Mohr-Coulomb cases.
 
     .venv/bin/python benchmarks/stability_map.py [--quick | --full] [--only dem|continuum]
+                                                 [--softening]
 
 DEM. The specimen of ``tests/test_mech_stability.py`` (a bonded Voronoi block on a fixed base,
 released under gravity, undamped) for kn 1e8..1e15 Pa/m, kn/ks 0.1..100, g-level 1 and 150 and
@@ -38,13 +39,27 @@ import scenes
 
 
 # ------------------------------------------------------------------ DEM
-def _is_stable(bs, kn, ks, g_level, dt, steps):
+# --softening: the flaws soften (``dem_core.contact.softening``) with fracture energies 20
+# times their snap-back limits, T^2 / 2kn and c^2 / 2ks, and the second g-level is 3000, where
+# most flaws of the specimen pass their peak (tests/test_mech_stability.py)
+SOFTENING = {"on": False}
+
+
+def _materials(kn, ks):
     from dem_core.contact.materials import Material
+
+    T, c = 1e5, 2e5
+    soft = (dict(fracture_energy_I=20 * T * T / (2 * kn), fracture_energy_II=20 * c * c / (2 * ks))
+            if SOFTENING["on"] else {})
+    return {"flaw:*": Material(kn=kn, ks=ks, tensile_strength=T, cohesion=c, friction=35,
+                               **soft),
+            "boundary:*": Material(kn=kn, ks=ks, friction=35)}
+
+
+def _is_stable(bs, kn, ks, g_level, dt, steps):
     from dem_core.model import Model, ModelUnstable
 
-    mats = {"flaw:*": Material(kn=kn, ks=ks, tensile_strength=1e5, cohesion=2e5, friction=35),
-            "boundary:*": Material(kn=kn, ks=ks, friction=35)}
-    m = Model(bs, mats, density=2500, damping=0.0, dt=dt)
+    m = Model(bs, _materials(kn, ks), density=2500, damping=0.0, dt=dt)
     m.fix("base")
     m.set_gravity(g_level)
     se_max, worst = 0.0, -np.inf
@@ -63,12 +78,9 @@ def _is_stable(bs, kn, ks, g_level, dt, steps):
 def auto_dt(bs, kn, ks, step_estimate="bound"):
     """(automatic dt, search margin, critical dt) of the specimen, the critical step
     bounded (``step_estimate="bound"``) or from the largest eigenvalue ("eigen")."""
-    from dem_core.contact.materials import Material
     from dem_core.model import Model
 
-    mats = {"flaw:*": Material(kn=kn, ks=ks, tensile_strength=1e5, cohesion=2e5, friction=35),
-            "boundary:*": Material(kn=kn, ks=ks, friction=35)}
-    m = Model(bs, mats, density=2500, damping=0.0, step_estimate=step_estimate)
+    m = Model(bs, _materials(kn, ks), density=2500, damping=0.0, step_estimate=step_estimate)
     m.fix("base")
     return m.dt, m.search_margin, m.critical_dt
 
@@ -104,7 +116,7 @@ def largest_stable_dt(bs, kn, ks, g_level, steps, rel_tol=0.02):
 def dem_map(full, log):
     kns = [1e8, 1e10, 1e12, 1e15] if not full else [1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15]
     ratios = [0.1, 1.0, 10.0, 100.0] if not full else [0.1, 0.3, 1.0, 3.0, 10.0, 30.0, 100.0]
-    g_levels = [1.0, 150.0]
+    g_levels = [1.0, 3000.0 if SOFTENING["on"] else 150.0]
     steps = 2000 if not full else 4000
     block_sets = {"10 mm, relaxed": scenes.stability_specimen(),
                   "10 mm, sliver control off": scenes.stability_specimen(min_fraction=0.0,
@@ -305,7 +317,11 @@ def plot(out, path):
 def main(argv=None):
     ap = scenes.quick_or_full_parser(__doc__.splitlines()[0])
     ap.add_argument("--only", choices=["dem", "continuum"])
+    ap.add_argument("--softening", action="store_true",
+                    help="DEM flaws that soften (fracture energies 20x the snap-back limit), "
+                         "at 1 g and 3000 g; writes stability_map_softening.*")
     a = ap.parse_args(argv)
+    SOFTENING["on"] = a.softening
     out = {"machine": scenes.machine(), "mode": "full" if a.full else "quick"}
     t0 = time.perf_counter()
     if a.only != "continuum":
@@ -317,6 +333,7 @@ def main(argv=None):
         out["continuum"] = continuum_map(a.full, print)
     out["wall_seconds"] = time.perf_counter() - t0
     name = "stability_map" if a.only is None else f"stability_map_{a.only}"
+    name = "stability_map_softening" if a.softening else name
     path = scenes.write_json(name, out, a.reference)
     plot(out, scenes.results_dir(a.reference) / f"{name}.png")
     print(f"wrote {path} ({out['wall_seconds']:.0f} s)")
