@@ -11,7 +11,7 @@ import numpy as np
 
 from . import hoek_brown as hb
 
-__all__ = ["Elastic", "MohrCoulomb", "HoekBrown", "lame"]
+__all__ = ["Elastic", "MohrCoulomb", "HoekBrown", "lame", "davis_factor"]
 
 
 def _positive(name, value):
@@ -28,6 +28,17 @@ def _elastic_check(E, nu):
 def lame(E, nu):
     """Lame constants (lambda, G) of an isotropic solid, in the unit of E."""
     return E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)), E / (2.0 * (1.0 + nu))
+
+
+def davis_factor(friction, dilation):
+    """Davis (1968) strength factor beta = cos(psi) cos(phi) / (1 - sin(psi) sin(phi)).
+
+    Angles in degrees, 0 <= psi <= phi < 90; beta = 1 for associated flow (psi = phi) and
+    cos(phi) for psi = 0. Reference: Davis, E. H. (1968), Theories of plasticity and the
+    failure of soil masses, in Lee (ed.), Soil Mechanics: Selected Topics, Butterworths.
+    """
+    phi, psi = math.radians(friction), math.radians(dilation)
+    return math.cos(psi) * math.cos(phi) / (1.0 - math.sin(psi) * math.sin(phi))
 
 
 @dataclass(frozen=True)
@@ -99,6 +110,23 @@ class MohrCoulomb:
         return replace(self, cohesion=self.cohesion / factor, friction=phi, dilation=psi,
                        tensile_strength=t)
 
+    def davis(self):
+        """The associated material of Davis (1968) for this non-associated one.
+
+        c* = beta c, tan(phi*) = beta tan(phi), psi* = phi* (associated), beta =
+        `davis_factor(phi, psi)`; the tension cut-off is kept (the apex c* cot(phi*) =
+        c cot(phi) does not move). Along a velocity discontinuity (a thin shear band) of a
+        psi < phi material, shear and normal stress obey tau = c* + sigma tan(phi*), so the
+        collapse load of mechanisms of rigid blocks is the associated one with (c*, phi*)
+        (Drescher & Detournay 1993, Geotechnique 43(3)); elsewhere it is an approximation,
+        on the safe side. An associated material is returned unchanged.
+        """
+        if self.dilation is None or self.dilation == self.friction:
+            return replace(self, dilation=None)
+        beta = davis_factor(self.friction, self.dilation)
+        phi = math.degrees(math.atan(beta * math.tan(math.radians(self.friction))))
+        return replace(self, cohesion=beta * self.cohesion, friction=phi, dilation=None)
+
 
 @dataclass(frozen=True)
 class HoekBrown:
@@ -142,3 +170,16 @@ class HoekBrown:
     def tensile_strength(self):
         """Isotropic (apex) tensile strength s sci / mb as a positive number (Pa)."""
         return self.s * self.sci / self.mb
+
+    def equivalent_mohr_coulomb(self, sigma3_max, dilation=None):
+        """The Mohr-Coulomb rock mass that strength reduction uses for this one.
+
+        c and phi are the Hoek et al. (2002) fit (eqs 13-14, `hoek_brown.
+        equivalent_mohr_coulomb`) over st < sigma3 < sigma3_max (Pa, compression positive;
+        e.g. `hoek_brown.sigma3_max_slope`), with a tension cut-off at the Hoek-Brown tensile
+        strength s sci / mb and dilation psi in degrees (None: associated). Strength reduction
+        then follows the Mohr-Coulomb rule (`MohrCoulomb.reduced`, `continuum_ref.ssr`).
+        """
+        c, phi = hb.equivalent_mohr_coulomb(self.sci, self.mb, self.s, self.a, sigma3_max)
+        return MohrCoulomb(E=self.E, nu=self.nu, cohesion=c, friction=phi, dilation=dilation,
+                           tensile_strength=self.tensile_strength)

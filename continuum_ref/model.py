@@ -34,7 +34,7 @@ from petsc4py import PETSc
 from . import _dolfinx05 as dx
 from . import return_mapping as rm
 from .materials import Elastic
-from .newton import NewtonSettings, load_path, newton
+from .newton import NewtonSettings, load_path, newton, relax
 from dem_core.units import STANDARD_GRAVITY
 
 __all__ = ["ContinuumModel", "StageResult"]
@@ -138,6 +138,7 @@ class ContinuumModel:
         self._pore_fn = None                       # -g p m at quadrature points (forms)
         self.history = {name: [] for name in mesh_data.points}
         self._forms = None
+        self._elastic = None                       # (key, matrix, solver) of K_e (relaxation)
         self._qpts = qpts
 
     # ------------------------------------------------------------------ set-up
@@ -236,24 +237,29 @@ class ContinuumModel:
         eps = dx.eval_expression(self._eps_expr, self._cells)
         return eps, self.sig_n, eps - self.eps_n
 
-    def _update_stress(self):
-        """Return map at every quadrature point from the current displacement."""
+    def _update_stress(self, tangent=True):
+        """Return map at every quadrature point from the current displacement (tangent=False:
+        stresses only, the stored tangent is left as it was)."""
         self._eps_now, sig_n, deps = self._trial_stress()
         sig = np.empty_like(sig_n)
-        tan = np.empty((sig.shape[0], 4, 4))
+        tan = np.empty((sig.shape[0], 4, 4)) if tangent else None
         mode = np.zeros(sig.shape[0], dtype=np.int64)
         for k, mat in enumerate(self.materials):
             pts = self._point_material == k
             if not pts.any():
                 continue
             De = rm.elastic_tangent(mat.E, mat.nu)
-            sig[pts], tan[pts], mode[pts] = rm.return_map(sig_n[pts] + deps[pts] @ De, mat)
+            sig[pts], tan_k, mode[pts] = rm.return_map(sig_n[pts] + deps[pts] @ De, mat,
+                                                       tangent)
+            if tangent:
+                tan[pts] = tan_k
         self._sig_now, self._mode_now = sig, mode
         self._sig.x.array.reshape(-1, 4)[self._b4] = sig
-        self._tan.x.array.reshape(-1, 16)[self._b16] = tan.reshape(-1, 16)
+        if tangent:
+            self._tan.x.array.reshape(-1, 16)[self._b16] = tan.reshape(-1, 16)
 
-    def _residual(self):
-        self._update_stress()
+    def _residual(self, tangent=True):
+        self._update_stress(tangent)
         bcs = self._bcs()
         extra = None if self._release_force is None else (1.0 - self._release,
                                                            self._release_force)
@@ -291,6 +297,44 @@ class ContinuumModel:
             self._build_forms()
         return newton(self._residual, self._solve_update, self.newton_settings,
                       scale_step=self._scale_step)
+
+    def _attempt_relaxed(self, settings):
+        """One load step by `newton.relax`: the initial-stiffness iteration with the elastic
+        stiffness of the current materials (factorised once and kept while they and the
+        boundary conditions stay the same)."""
+        if self._forms is None:
+            self._build_forms()
+        solve = self._elastic_solver()
+
+        def correction():
+            solve(self._b, self._du.vector)
+            self._du.x.scatter_forward()
+            return self._du.x.array.copy()
+
+        def set_x(x):
+            self.u.x.array[:] = x
+            self.u.x.scatter_forward()
+        return relax(lambda: self._residual(tangent=False), correction,
+                     lambda: self.u.x.array.copy(), set_x, settings)
+
+    def _elastic_solver(self):
+        """K_e^{-1} as a callable (b, x): the elastic stiffness with the model's Dirichlet rows,
+        assembled and factorised on first use and again when the elastic constants, the
+        material of a point or the boundary conditions change."""
+        key = (tuple((m.E, m.nu) for m in self.materials), self._point_material.tobytes(),
+               len(self._dirichlet), id(self._J))
+        if self._elastic is None or self._elastic[0] != key:
+            saved = self._tan.x.array.copy()
+            tan = np.empty((len(self._point_material), 4, 4))
+            for k, mat in enumerate(self.materials):
+                tan[self._point_material == k] = rm.elastic_tangent(mat.E, mat.nu)
+            self._tan.x.array.reshape(-1, 16)[self._b16] = tan.reshape(-1, 16)
+            A = dx.create_matrix(self._J)
+            dx.assemble_matrix(A, self._J, self._bcs())
+            self._tan.x.array[:] = saved
+            ksp = dx.lu_solver(A)
+            self._elastic = (key, A, ksp)
+        return self._elastic[2].solve
 
     def _snapshot(self):
         return (self.u.x.array.copy(), self.sig_n.copy(), self.eps_n.copy(), self.mode.copy(),

@@ -21,12 +21,22 @@ tests/test_continuum_ssr.py, where a full correction made the residual jump by 1
 turned divergence into stagnation without moving the limit, and with psi = phi it made the
 searches 2-6 times slower. Reference: Dennis & Schnabel (1996), Numerical Methods for
 Unconstrained Optimization and Nonlinear Equations, ch. 6.
+
+Relaxation (`relax`, for non-associated strength reduction): the initial-stiffness iteration
+u_{k+1} = u_k - K_e^{-1} R(u_k) with the *elastic* stiffness K_e (factorised once), which is
+the viscoplastic pseudo-time path of Zienkiewicz & Cormeau (1974) with the largest stable step
+as Griffiths & Lane (1999) use it for slopes, accelerated by Anderson mixing (Anderson 1965;
+Walker & Ni 2011, SIAM J. Numer. Anal. 49). K_e is positive definite, so every iterate is
+defined where the consistent tangent of psi < phi flow is indefinite and Newton jumps. It
+converges linearly: same convergence test as Newton with a looser default rtol (1e-4), and
+non-convergence means max_iterations without it, a NaN, or divergence.
 """
 from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["NewtonSettings", "NewtonResult", "newton", "StepRecord", "load_path"]
+__all__ = ["NewtonSettings", "NewtonResult", "newton", "RelaxationSettings", "relax",
+           "StepRecord", "load_path"]
 
 
 @dataclass
@@ -103,6 +113,72 @@ def _line_search(residual, scale_step, r0, full, halvings):
         scale_step(best_alpha)
         best = residual()
     return best
+
+
+@dataclass(frozen=True)
+class RelaxationSettings:
+    """Settings of `relax` (module docstring). Units of atol: N (per metre of thickness).
+
+    rtol : convergence when ||R|| <= rtol * max(||reactions||) + atol.
+    max_iterations : the budget of one attempt (its end is a non-convergence).
+    depth : number of previous iterates that Anderson mixing combines (0: plain iteration).
+    """
+
+    rtol: float = 1e-4
+    atol: float = 1e-10
+    max_iterations: int = 300
+    depth: int = 8
+    divergence: float = 1e8
+
+    def __post_init__(self):
+        if not (0 < self.rtol < 1 and self.atol >= 0 and self.max_iterations >= 1
+                and self.depth >= 0 and self.divergence > 1):
+            raise ValueError(f"invalid RelaxationSettings {self}")
+
+
+def relax(residual, correction, get_x, set_x, settings):
+    """Anderson-accelerated fixed-stiffness iteration x <- x + g(x), g = -K^{-1} R(x).
+
+    Parameters
+    ----------
+    residual : callable () -> (norm, reaction_norm, pending), as in `newton`
+    correction : callable () -> array
+        K^{-1} R at the current x (the correction `newton` would subtract, with a fixed K).
+    get_x, set_x : callables
+        Copy of the unknowns (array) and their replacement.
+    settings : RelaxationSettings
+
+    Anderson mixing (type II): with the last m+1 iterates x_i and steps g_i,
+    gamma = argmin ||g_k - dG gamma||, x_{k+1} = x_k + g_k - (dX + dG) gamma, where the
+    columns of dX, dG are differences of successive x_i, g_i. A pending step (boundary values
+    not yet imposed) is taken in full and restarts the mixing.
+    """
+    xs, gs, history, ref = [], [], [], None
+    for it in range(settings.max_iterations + 1):
+        r, reaction, pending = residual()
+        history.append(r)
+        ref = reaction if ref is None else max(ref, reaction)
+        if not np.isfinite(r) or r > settings.divergence * max(history[0], settings.atol):
+            return NewtonResult(False, it, history)
+        if not pending and r <= settings.rtol * ref + settings.atol:
+            return NewtonResult(True, it, history)
+        if it == settings.max_iterations:
+            break
+        x, g = get_x(), -correction()
+        if not np.all(np.isfinite(g)):
+            return NewtonResult(False, it, history)
+        xs, gs = ([], []) if pending else (xs + [x], gs + [g])
+        xs, gs = xs[-(settings.depth + 1):], gs[-(settings.depth + 1):]
+        set_x(x + g if len(xs) < 2 else _anderson(xs, gs))
+    return NewtonResult(False, settings.max_iterations, history)
+
+
+def _anderson(xs, gs):
+    """Anderson type-II update from iterates xs and fixed-point steps gs (lists, newest last)."""
+    dX = np.stack([b - a for a, b in zip(xs[:-1], xs[1:])], axis=1)
+    dG = np.stack([b - a for a, b in zip(gs[:-1], gs[1:])], axis=1)
+    gamma = np.linalg.lstsq(dG, gs[-1], rcond=None)[0]
+    return xs[-1] + gs[-1] - (dX + dG) @ gamma
 
 
 @dataclass

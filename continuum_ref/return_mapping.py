@@ -290,15 +290,16 @@ def yield_function(s, mat):
 # Tensor layer
 
 
-def plane_strain_return(sig_trial, mat):
+def plane_strain_return(sig_trial, mat, tangent=True):
     """Return (n, 4) Mandel trial stresses (tension positive) to the yield surface of `mat`.
 
     Returns
     -------
     sig : (n, 4) array
         Admissible stress.
-    tangent : (n, 4, 4) array
-        Algorithmic tangent d sig / d eps (Mandel, symmetric for associated flow).
+    tangent : (n, 4, 4) array or None
+        Algorithmic tangent d sig / d eps (Mandel, symmetric for associated flow); None when
+        called with tangent=False (a fixed-stiffness iteration needs only the stress).
     mode : (n,) int array
         ELASTIC (0), SHEAR (1), TENSION (2), or 3 for a shear and tension corner.
     """
@@ -318,6 +319,8 @@ def plane_strain_return(sig_trial, mat):
     jac = np.einsum("nki,nkl,nlj->nij", P, jac_c, P)
     dep = jac @ Dp
     sig = np.einsum("ni,inj->nj", eig_new, basis[:3])
+    if not tangent:
+        return sig, None, mode
     tangent = np.einsum("nij,ink,jnl->nkl", dep, basis[:3], basis[:3])
     gap_tr = eig[:, 0] - eig[:, 1]
     safe = gap_tr > 1e-12 * (1.0 + np.abs(eig).max(axis=1))
@@ -327,18 +330,19 @@ def plane_strain_return(sig_trial, mat):
     return sig, tangent, mode
 
 
-def return_map(sig_trial, mat):
+def return_map(sig_trial, mat, tangent=True):
     """Like `plane_strain_return` but elastic points skip the principal-space work.
 
-    Elastic materials (no strength attributes) return the trial stress and the elastic tangent.
+    Elastic materials (no strength attributes) return the trial stress and the elastic tangent;
+    tangent=False returns None for the tangent and skips its computation.
     """
     n = sig_trial.shape[0]
     De = elastic_tangent(mat.E, mat.nu)
-    tangent = np.broadcast_to(De, (n, 4, 4)).copy()
+    tan = np.broadcast_to(De, (n, 4, 4)).copy() if tangent else None
     mode = np.zeros(n, dtype=np.int64)
     sig = sig_trial.copy()
     if not isinstance(mat, (MohrCoulomb, HoekBrown)):
-        return sig, tangent, mode
+        return sig, tan, mode
     eig, _ = principal_decomposition(sig_trial)
     s_tr = -np.sort(eig, axis=1)
     f = yield_function(s_tr, mat)
@@ -346,6 +350,8 @@ def return_map(sig_trial, mat):
                                          else mat.sci * mat.s ** mat.a)
     plastic = f > 1e-10 * scale
     if plastic.any():
-        sig[plastic], tangent[plastic], mode[plastic] = plane_strain_return(
-            sig_trial[plastic], mat)
-    return sig, tangent, mode
+        sig[plastic], tan_p, mode[plastic] = plane_strain_return(sig_trial[plastic], mat,
+                                                                 tangent)
+        if tangent:
+            tan[plastic] = tan_p
+    return sig, tan, mode
