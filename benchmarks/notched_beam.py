@@ -36,6 +36,7 @@ import numpy as np
 
 E, NU, T, C, PHI, RHO = 4.5e9, 0.2, 1.1e6, 1.6e6, 37.0, 1700.0
 KS_OVER_KN = 0.5
+MODE_II = {"ratio": 10.0}       # G_II / G_I (--mode-ii-ratio)
 OUT = Path(__file__).resolve().parent / "results"
 
 
@@ -78,7 +79,7 @@ def beam_model(bs, G_I):
     r = KS_OVER_KN
     kn = E / (1 - NU ** 2) * (3 + r) / (2 * d * (1 + r))     # lattice_moduli's E_2d = E'
     flaw = Material(kn=kn, ks=r * kn, tensile_strength=T, cohesion=C, friction=PHI,
-                    fracture_energy_I=G_I, fracture_energy_II=10 * G_I if G_I else 0.0)
+                    fracture_energy_I=G_I, fracture_energy_II=MODE_II["ratio"] * G_I)
     pad = Material(kn=kn, ks=r * kn, friction=0.0)
     # end springs: with edge elements the law runs at an edge's two ends while its forces are
     # the linear element's, and under an opening that varies along the edge (a crack's tip)
@@ -139,9 +140,13 @@ def main():
     ap.add_argument("--size-effect", action="store_true")
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--name", default=None, help="results file name (without .json)")
+    ap.add_argument("--mode-ii-ratio", type=float, default=10.0, help="G_II / G_I")
+    ap.add_argument("--widths", type=float, nargs="+", default=[1, 2, 4, 8],
+                    help="--size-effect: W / l_ch")
     ap.add_argument("--figure", nargs="+", metavar="NAME",
                     help="run nothing: draw these result files into notched_beam.png")
     a = ap.parse_args()
+    MODE_II["ratio"] = a.mode_ii_ratio
     OUT.mkdir(exist_ok=True)
     if a.figure:
         figure(a.figure, OUT / "notched_beam.png")
@@ -150,7 +155,7 @@ def main():
     if a.size_effect:
         G_I = a.G[0]
         l_ch = E / (1 - NU ** 2) * G_I / T ** 2
-        for k in (1, 2, 4, 8):
+        for k in a.widths:
             W = k * l_ch
             h = min(l_ch / 4, W / 10)          # l_ch resolved, and 10 blocks across at least
             r = run(W, h, 1, G_I, quick=a.quick)
