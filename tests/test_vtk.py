@@ -78,6 +78,7 @@ def test_blocks_contacts_and_cracks_read_back_equal_the_model(pulled_bar, tmp_pa
     assert np.abs(f["sn"][lines] - c.live("sn")).max() < TOL * np.abs(c.live("sn")).max()
     assert np.array_equal(f["ts"][lines], c.live("ts"))
     assert np.array_equal(f["state"][lines], c.state())
+    assert np.array_equal(f["damage"][lines], c.live("damage"))     # (0: brittle flaws)
     assert (f["state"][lines] == 2).sum() > 0                  # broken in tension
     assert np.all(np.isnan(f["sn"][blocks])) and np.all(f["state"][blocks] == -1)
     # cracks: where, when and how each bond failed

@@ -27,7 +27,8 @@ apply; vectors have 3 components, z = 0, as ParaView expects):
 - contacts: ``sn`` normal stress (Pa, **compression positive**, 0 when open), ``ts`` shear stress
   (Pa, on B along t), ``state`` (``Contacts.state``: 0 intact, 1 slipping, 2 broken in tension,
   3 broken in shear, 4 unbonded: made by the contact search), ``material`` (row of
-  ``model.table.names``).
+  ``model.table.names``), ``damage`` (a softening bond's kappa, 0 intact to 1 fully softened;
+  0 for every other contact: ``contact.softening``).
 - cracks: ``mode`` (1 tension, 2 shear), ``time`` (s, model time of the failure), ``material``.
 - support: ``support`` (0 cable, 1 liner), ``element`` (which cable or liner), ``axial_force``
   (N/m per metre out of plane, **tension positive**: a cable's force / its spacing, a liner's
@@ -55,7 +56,7 @@ __all__ = ["write_vtk", "vtk_mesh", "VtkSeries", "legend", "block_groups", "KIND
 
 KIND_BLOCK, KIND_CONTACT, KIND_CRACK, KIND_SUPPORT = 0, 1, 2, 3
 _FLOAT = {"displacement": 3, "velocity": 3, "rotation": 1, "angular_velocity": 1, "sn": 1,
-          "ts": 1, "time": 1, "axial_force": 1, "moment": 1}
+          "ts": 1, "time": 1, "axial_force": 1, "moment": 1, "damage": 1}
 _INT = ("kind", "block", "group", "region", "state", "material", "mode", "support", "element")
 
 
@@ -126,7 +127,7 @@ def _contacts(model):
     pts[0::2], pts[1::2] = xa, xb
     owner = np.repeat(c.live("block_a").astype(np.int64), 2)
     fields = {"sn": c.live("sn"), "ts": c.live("ts"), "state": c.state(),
-              "material": c.live("material")}
+              "material": c.live("material"), "damage": c.live("damage")}
     lines = [("line", np.arange(2 * n).reshape(n, 2))]
     return pts, _rigid_displacement(model, owner, pts), lines, [n], fields
 
@@ -216,7 +217,8 @@ def legend(model) -> dict:
             "mode": {"1": "tension", "2": "shear"},
             "units": {"displacement": "m", "velocity": "m/s", "rotation": "rad (CCW +)",
                       "angular_velocity": "rad/s", "sn": "Pa (compression +)", "ts": "Pa",
-                      "time": "s", "axial_force": "N/m (tension +)", "moment": "N m/m"}}
+                      "time": "s", "axial_force": "N/m (tension +)", "moment": "N m/m",
+                      "damage": "- (0 intact, 1 fully softened)"}}
 
 
 class VtkSeries:
