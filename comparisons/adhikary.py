@@ -130,6 +130,7 @@ def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
     progress = progress or (lambda message: None)
     result = CaseResult("adhikary", variant, seed, reference=dict(REFERENCE))
     members = _members(v, seed)
+    centrifuge.check_members(scene, scene.AdhikaryParams, members, FAILURE_DISPLACEMENT, CREEP)
     progress(f"{len(members)} DEM runs (g-levels {v['g_levels'][0]}..{v['g_levels'][-1]})")
     runs = run_sweep(run_member, members, workers=v["workers"], progress=progress)
     by_label = {r["label"]: r for r in runs}

@@ -83,6 +83,30 @@ def ramp_members(v: dict, seed: int, **studies) -> list:
     return members
 
 
+def ramp_stage(member: dict, failure_displacement: float, creep: float) -> RaiseGravity:
+    """A member's g-ramp (``ramp_run``): its g-levels, step budget, bisection and judge,
+    watching A and B, failing beyond ``failure_displacement`` (m) or ``creep`` (m)."""
+    return RaiseGravity(tuple(member["g_levels"]), ratio=1e-5, max_steps=member["max_steps"],
+                        failure_displacement=failure_displacement, creep=creep,
+                        watch=("A", "B"), refine_to=member.get("refine_to"),
+                        settle=bool(member.get("settle", False)),
+                        **{k: member[k] for k in ("judge", "windows") if k in member})
+
+
+def check_members(scene, params_class, members, failure_displacement, creep) -> None:
+    """Each member's parameters (``params_class(**params)``), scene (``scene.scene``) and
+    g-ramp (``ramp_stage``) built and checked before the sweep starts, as ``Scene`` checks a
+    scene file: a negative edge length, g-levels that do not increase, a step budget that is
+    not a whole number > 0 are one ValueError naming the member, not a traceback from a
+    worker after the sweep has started."""
+    for m in members:
+        try:
+            ramp = ramp_stage(m, failure_displacement, creep)
+            scene.scene(params_class(**m["params"]), stages=[ramp])
+        except (ValueError, TypeError) as e:
+            raise ValueError(f"member {m['label']!r}: {e}") from None
+
+
 def ramp_run(scene, params, member: dict, failure_displacement: float, creep: float,
              rupture_materials=("flaw:",)) -> dict:
     """Raise gravity on one scene to failure (a ``RaiseGravity`` stage, watching A and B).
@@ -109,11 +133,7 @@ def ramp_run(scene, params, member: dict, failure_displacement: float, creep: fl
     fail: counted as failed) and ``runtime_s``. The rupture is added by ``rupture``.
     """
     t0 = time.perf_counter()
-    ramp = RaiseGravity(tuple(member["g_levels"]), ratio=1e-5, max_steps=member["max_steps"],
-                        failure_displacement=failure_displacement, creep=creep,
-                        watch=("A", "B"), refine_to=member.get("refine_to"),
-                        settle=bool(member.get("settle", False)),
-                        **{k: member[k] for k in ("judge", "windows") if k in member})
+    ramp = ramp_stage(member, failure_displacement, creep)
     sc = scene.scene(params, stages=[ramp])
     checkpoint = member.get("checkpoint")
     saved = load_resumable(checkpoint, RampRecord) if checkpoint else None

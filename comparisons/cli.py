@@ -123,7 +123,9 @@ def run_case(name: str, variant: str, out: Path, seed: int, quiet: bool, resume:
     VTK files go to ``out/name/vtk`` (``vtk``; ``comparisons.store``). ``settings``:
     "KEY=VALUE" changes of the variant (``custom_variant``). An unknown case, setting, an
     unwritable ``out`` or, resuming, a kept result of other settings (``case_source``) is
-    refused before any compute (``fail``)."""
+    refused before any compute (``fail``); a setting the case itself refuses (a ValueError
+    from its run: its variant's and members' checks come before its sweep) is one line and
+    status 2 too."""
     with ExitStack() as stack:
         try:
             module = registry.case_module(name)
@@ -140,6 +142,8 @@ def run_case(name: str, variant: str, out: Path, seed: int, quiet: bool, resume:
             result = module.run(variant=chosen, seed=seed, progress=progress)
         except store.StaleResult as e:
             return fail(str(e))
+        except ValueError as e:                 # a setting the case refuses
+            return fail(str(e) if str(e).startswith(name) else f"{name}: {e}")
     folder = write_results(result, out)
     print(f"{name} ({variant}) finished in {time.perf_counter() - t0:.1f} s")
     for metric, e in result.errors.items():
@@ -214,10 +218,13 @@ def run_scene_file(path, out: Path, vtk: bool = False, quiet: bool = False, sett
     ``settings``) and write its results to ``out/<scene name>`` (``comparisons.run_scene``);
     ``resume``: go on after the stages an earlier run kept; ``restart``: delete them first;
     ``strict``: an unusual value (``scene_warnings``) refuses the scene. A file that does not
-    load as a scene, an unwritable ``out`` or, resuming, kept stages of
-    another scene or settings are refused before any compute; a stage that raises ends with
+    load as a scene, an unwritable ``out``, resuming, kept stages of another scene or
+    settings, or a model or stage list the checks before the first step refuse
+    (``build_checked``: too large for the machine, a stage the model cannot take) are refused
+    before any compute; a stage that raises ends with
     status 1 after the outputs of the stages before it are written."""
-    from comparisons.run_scene import load_stages, prepare, run_prepared, scene_source
+    from comparisons.run_scene import (build_checked, load_stages, prepare, run_prepared,
+                                       scene_source)
 
     with ExitStack() as stack:
         try:
@@ -228,6 +235,11 @@ def run_scene_file(path, out: Path, vtk: bool = False, quiet: bool = False, sett
             kept = load_stages(keep) if keep.resume else None
         except ValueError as e:
             return fail(str(e))
+        try:
+            with scene_warnings(strict):
+                kept = build_checked(scene, kept)
+        except ValueError as e:
+            return fail(f"scene file {str(path)!r}: {e}")
         progress = Progress(scene.name, quiet=quiet)
         t0 = time.perf_counter()
         records, error = run_prepared(scene, folder, path, vtk=vtk, progress=progress,

@@ -70,9 +70,9 @@ from comparisons.results import _jsonable, software_versions
 from comparisons import store
 from comparisons.store import check_folder
 
-__all__ = ["prepare", "run_scene", "run_prepared", "scene_folder", "RESULT_KEYS",
-           "apply_settings", "scene_source", "load_stages", "STAGES_CHECKPOINT", "check_scene",
-           "check_figure", "verdict_line", "verdict_lines", "CHECK_PICTURE"]
+__all__ = ["prepare", "run_scene", "run_prepared", "build_checked", "scene_folder",
+           "RESULT_KEYS", "apply_settings", "scene_source", "load_stages", "STAGES_CHECKPOINT",
+           "check_scene", "check_figure", "verdict_line", "verdict_lines", "CHECK_PICTURE"]
 
 CHECK_PICTURE = "check.png"                 # <out>/<scene name>/<this>, written by --check
 
@@ -157,25 +157,42 @@ def run_scene(path, out="results", vtk: bool = False, progress=None, settings=()
     scene, folder = prepare(path, out, settings)
     with store.case_output(folder, resume=resume, source=scene_source(scene, settings),
                            restart=restart) as keep:
-        kept = load_stages(keep) if keep.resume else None
+        kept = build_checked(scene, load_stages(keep) if keep.resume else None)
         return (folder,) + run_prepared(scene, folder, path, vtk, progress, kept=kept)
+
+
+def build_checked(scene, kept=None):
+    """(model, records) ready to run: ``kept`` ((model, records) of the stages an earlier run
+    finished, ``load_stages``) or the scene's new model (``build_model``, which refuses a
+    geometry too large for the machine), after the checks before any compute: the stages
+    against the model's groups and materials (``check_stages``) and the stages left to run
+    against the model (``check_on_model``: watched points, excavated groups, cables, liners,
+    loads the contacts cannot carry). ValueError naming the stage or item."""
+    from dem_core.workflow.scene import build_model
+    from dem_core.workflow.stages import check_on_model, check_stages
+
+    model, records = kept if kept is not None else (build_model(scene), [])
+    check_stages(scene.stages, set(model.blocks.groups), model.materials)
+    check_on_model(scene.stages[len(records):], model, first=len(records))
+    return model, records
 
 
 def check_scene(path, out="results", settings=()):
     """``run-scene FILE --check``: load and check the scene (``prepare``), build its model
     (``build_model``: blocks and contacts, no step), check its stages against the model
-    (``check_stages``) and draw it to ``<folder>/check.png`` (``check_figure``). Nothing is
+    (``build_checked``) and draw it to ``<folder>/check.png`` (``check_figure``). Nothing is
     computed and no kept result is touched. Returns (folder, line): the line gives the block
     and contact counts and the stages' kinds. ValueError for a scene that does not load or
     whose stages or points do not fit the model."""
     import matplotlib.pyplot as plt
 
-    from dem_core.workflow.scene import build_model
-    from dem_core.workflow.stages import check_stages, stage_to_dict
+    from dem_core.workflow.stages import stage_to_dict
 
     scene, folder = prepare(path, out, settings)
-    model = build_model(scene)
-    check_stages(scene.stages, set(model.blocks.groups), model.materials)
+    try:
+        model, _ = build_checked(scene)
+    except ValueError as e:
+        raise ValueError(f"scene file {str(path)!r}: {e}") from None
     fig = check_figure(scene, model)
     picture = folder / CHECK_PICTURE
     fig.savefig(picture, dpi=110, bbox_inches="tight")
@@ -429,16 +446,17 @@ def _decode_record(obj):
 
 
 def run_prepared(scene, folder, path, vtk=False, progress=None, kept=None):
-    """``run_scene`` after ``prepare``: (records, error). ``kept``: (model, records) of the
-    stages finished by an earlier run (``load_stages``): the stages after them run. Inside a
+    """``run_scene`` after ``prepare``: (records, error). ``kept``: (model, records) to run
+    from, checked (``build_checked``: a new model, or the stages finished by an earlier run,
+    after which the others run); None builds and checks it here. Inside a
     ``store.case_output`` the model and records are kept after each stage."""
-    from dem_core.workflow.scene import build_model
     from dem_core.workflow.stages import check_stages, run_stages, stop_after
 
     say = progress or (lambda message: None)
     keep = store.current()
     t0 = time.perf_counter()
-    model, records = kept if kept is not None else (build_model(scene), [])
+    model, records = kept if kept is not None else build_checked(scene)
+    records = list(records)
     say(f"{scene.name}: {model.n_blocks} blocks, {int(model.contacts.n)} contacts, "
         f"{len(scene.stages)} stages" + (f", {len(records)} kept from an earlier run (not run "
                                          f"again)" if records else ""))

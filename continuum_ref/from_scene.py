@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from .mesh import mesh_from_geometry
+from .supports import check_supported
 
 __all__ = ["mesh_from_scene", "apply_boundaries", "side_sets", "scene_bounds", "scene_top",
            "apply_insitu", "apply_water"]
@@ -50,12 +51,16 @@ def _predicate(sides, bounds, tol):
 
 def apply_boundaries(model, scene, bounds) -> None:
     """Fix the displacement components of every scene boundary on ``model``
-    (``continuum_ref.model.ContinuumModel``); ``bounds`` = (x0, y0, x1, y1) of the model, m."""
+    (``continuum_ref.model.ContinuumModel``); ``bounds`` = (x0, y0, x1, y1) of the model, m.
+    ValueError when they leave the model free to move as a rigid body (``supports``: no
+    boundary, or one that holds only y): every solve would fail with no reason given."""
     tol = 1e-9 * max(bounds[2] - bounds[0], bounds[3] - bounds[1])
     for b in scene.boundaries:
         comps = tuple(c for c, on in ((0, b.x), (1, b.y)) if on)
         if comps:
             model.fix(_predicate(side_sets(scene, b.group), bounds, tol), components=comps)
+    check_supported(model, f"scene {scene.name!r}: continuum boundaries "
+                           f"{[b.group for b in scene.boundaries]}")
 
 
 def scene_bounds(scene) -> tuple:

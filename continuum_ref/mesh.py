@@ -9,6 +9,14 @@ evaluated by interpolation (fragmenting them into the geometry left orphan nodes
 which crash DOLFINx 0.5.2's mesh creation).
 
 Coordinates are metres, x horizontal, y up.
+
+Before gmsh runs, the cell count is estimated (``estimate_cells``: the area over that of an
+equilateral triangle of the element size, sqrt(3)/4 h^2, which gmsh's meshes of simple regions
+match to 2 %) and the memory of meshing and solving it (``BYTES_PER_CELL``, measured with
+``benchmarks/memory_per_block.py``; docs/performance.md): a mesh that would need more memory
+than the machine has available, or more cells than a set limit (``max_cells``, else the
+environment variable ``CONTINUUM_MAX_CELLS``), is refused with the numbers
+(``check_mesh_size``) instead of aborting inside gmsh.
 """
 from dataclasses import dataclass, field
 
@@ -17,7 +25,12 @@ import shapely.geometry as sg
 from shapely.ops import unary_union
 
 __all__ = ["PolygonRegion", "WeakBand", "MeshData", "build_mesh", "mesh_from_geometry",
-           "refine_near"]
+           "refine_near", "estimate_cells", "check_mesh_size", "BYTES_PER_CELL"]
+
+TRIANGLE_AREA = np.sqrt(3.0) / 4.0      # of h^2: an equilateral triangle of side h
+BYTES_PER_CELL = 16000                  # 13.1 kB measured with a P2 solve (docs/performance.md)
+MAX_CELLS_VARIABLE = "CONTINUUM_MAX_CELLS"
+_SAMPLES = 2000                         # points a size field is sampled at for the estimate
 
 
 @dataclass
@@ -96,6 +109,43 @@ def refine_near(points, h_min, h_max, d_min, d_max):
     return size
 
 
+def estimate_cells(solid, h, size_field=None) -> float:
+    """The number of triangles gmsh makes of the shapely (Multi)Polygon ``solid`` at element
+    size ``h`` (m): the integral of dA / (TRIANGLE_AREA min(h, size_field)^2), the size field
+    sampled at up to ``_SAMPLES`` points of a grid over the solid."""
+    if size_field is None:
+        return solid.area / (TRIANGLE_AREA * h * h)
+    import shapely
+    x0, y0, x1, y1 = solid.bounds
+    step = np.sqrt(solid.area / _SAMPLES)
+    gx, gy = np.meshgrid(np.arange(x0 + step / 2, x1, step), np.arange(y0 + step / 2, y1, step))
+    pts = np.column_stack([gx.ravel(), gy.ravel()])
+    pts = pts[shapely.contains_xy(solid, pts[:, 0], pts[:, 1])]
+    if not len(pts):
+        return solid.area / (TRIANGLE_AREA * h * h)
+    size = np.array([min(h, float(size_field(x, y))) for x, y in pts])
+    return solid.area * float(np.mean(1.0 / (TRIANGLE_AREA * size ** 2)))
+
+
+def check_mesh_size(solid, h, size_field=None, max_cells=None, available=None) -> float:
+    """The estimated cell count (``estimate_cells``); ValueError with the numbers when it is
+    above the limit: ``max_cells`` (else ``CONTINUUM_MAX_CELLS``) or the ``available`` memory
+    (bytes; default ``dem_core.geometry.budget.available_memory()``) over ``BYTES_PER_CELL``."""
+    from dem_core.geometry.budget import available_memory, limit_from
+
+    cells = estimate_cells(solid, h, size_field)
+    limit, why = limit_from(max_cells, MAX_CELLS_VARIABLE,
+                            available_memory() if available is None else available,
+                            BYTES_PER_CELL)
+    if cells > limit:
+        raise ValueError(f"continuum mesh: about {cells:.3g} cells (area {solid.area:.3g} m^2 "
+                         f"at h = {h:g} m{', with the size field' if size_field else ''}) "
+                         f"would need about {cells * BYTES_PER_CELL / 1e9:.3g} GB, more than "
+                         f"{why}, which allow {limit:.3g} cells; an element size of at least "
+                         f"{h * np.sqrt(cells / limit):.2g} m would fit")
+    return cells
+
+
 def _polygon(name, exterior, holes):
     poly = sg.Polygon(exterior, holes)
     if not poly.is_valid or poly.area <= 0.0:
@@ -163,7 +213,7 @@ def _add_surface(occ, poly):
 
 
 def build_mesh(regions, h, size_field=None, groups=None, weak_bands=(), points=None,
-               order=1, quiet=True):
+               order=1, quiet=True, max_cells=None):
     """Mesh named polygons with gmsh and read them into DOLFINx.
 
     Parameters
@@ -182,6 +232,10 @@ def build_mesh(regions, h, size_field=None, groups=None, weak_bands=(), points=N
         Monitoring points (checked to lie inside the regions).
     order : int
         Geometric order of the gmsh elements (1: straight triangles, area exact).
+    max_cells : int, optional
+        Refuse a mesh estimated at more cells (default: ``CONTINUUM_MAX_CELLS``, if set); one
+        that would need more memory than the machine has available is always refused
+        (``check_mesh_size``, before gmsh runs).
 
     Notes
     -----
@@ -201,6 +255,7 @@ def build_mesh(regions, h, size_field=None, groups=None, weak_bands=(), points=N
     if not polys:
         raise ValueError("no regions given")
     solid = unary_union([p for _, _, p in polys])
+    check_mesh_size(solid, h, size_field, max_cells)
     for name, poly in (groups or {}).items():
         clipped = _as_polygon(name, poly).intersection(solid)
         if clipped.area <= 0.0:
@@ -249,7 +304,7 @@ def build_mesh(regions, h, size_field=None, groups=None, weak_bands=(), points=N
     return data
 
 
-def mesh_from_geometry(spec, h, size_field=None, weak_bands=(), points=None):
+def mesh_from_geometry(spec, h, size_field=None, weak_bands=(), points=None, max_cells=None):
     """Mesh a dem_core GeometrySpec (duck-typed) with the same regions and groups.
 
     Reads `spec.regions` (each with .name, .exterior, .holes and optionally .groups, names that
@@ -263,7 +318,7 @@ def mesh_from_geometry(spec, h, size_field=None, weak_bands=(), points=None):
         regions.append(PolygonRegion(r.name, [tuple(p) for p in r.exterior], holes))
     groups = dict(getattr(spec, "groups", None) or {})
     data = build_mesh(regions, h, size_field=size_field, groups=groups, weak_bands=weak_bands,
-                      points=points)
+                      points=points, max_cells=max_cells)
     for r in spec.regions:                 # Region.groups: names all its cells belong to
         for g in getattr(r, "groups", None) or ():
             data.tags.setdefault(g, [])

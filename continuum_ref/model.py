@@ -35,6 +35,7 @@ from . import _dolfinx05 as dx
 from . import return_mapping as rm
 from .materials import Elastic
 from .newton import NewtonSettings, load_path, newton, relax
+from .supports import check_supported
 from dem_core.units import STANDARD_GRAVITY
 
 __all__ = ["ContinuumModel", "StageResult"]
@@ -360,6 +361,7 @@ class ContinuumModel:
             self.history[name].append((label, t, float(d[0]), float(d[1])))
 
     def _run(self, label, apply, t0, t1, first_step, min_step):
+        check_supported(self)          # a rigid-body motion left free: say so, not "no converge"
         if self._forms is None:
             self._build_forms()
         self._saved = self._snapshot()

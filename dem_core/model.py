@@ -41,6 +41,7 @@ from .step.threads import parallel
 from .step.timestep import choose_timestep
 from .step.world import Parts, World
 from .units import STANDARD_GRAVITY
+from .workflow.plausibility import G_LEVEL_MAX
 from .workflow.response import measure_response
 from .workflow.solve import solve
 from .workflow.water import WaterTable
@@ -184,8 +185,9 @@ class Model:
         """Gravity of ``g_level`` x ``g`` (m/s^2) along ``direction`` (centrifuge: raise g_level)."""
         d = np.asarray(direction, dtype=np.float64)
         if not (np.all(np.isfinite(d)) and np.hypot(*d) > 0 and math.isfinite(g_level)
-                and g_level >= 0):
-            raise ValueError(f"bad gravity: g_level={g_level!r}, direction={direction!r}")
+                and 0 <= g_level <= G_LEVEL_MAX):
+            raise ValueError(f"bad gravity: g_level={g_level!r} (0 to {G_LEVEL_MAX:g}), "
+                             f"direction={direction!r}")
         self.gravity = g_level * g * d / np.hypot(*d)
 
     def fix(self, group, x=True, y=True, rotation=True, at=None):

@@ -28,7 +28,8 @@ from .cables import GROUT_SLIP, LINER_BOND, RUPTURE, YIELD, Cables, no_cables
 from .liner import no_liners
 
 __all__ = ["Cable", "Liner", "installed", "has_nodes", "support_stiffness", "set_node_masses",
-           "support_log", "no_cables", "no_liners", "decay_length"]
+           "support_log", "no_cables", "no_liners", "decay_length", "check_in_rock",
+           "liner_faces"]
 
 
 def _positive(where, **values):
@@ -335,20 +336,34 @@ def _cable_arrays(model, cab: Cable, tree) -> dict:
         seg_force=np.where(seg_free, ea * draw_in / n_free, 0.0), seg_state=np.zeros(nseg))
 
 
-def _liner_arrays(model, ln: Liner) -> dict:
+def liner_faces(blocks, active, members, ln: Liner) -> list:
+    """The exposed faces a liner on blocks ``members`` covers, in order along their one chain:
+    [(block, p0, p1)], p0, p1 (2,) in the block's body frame, with the blocks ``active``
+    (nb,) left (``water.exposed_faces``; a face only by its edges, not by where the blocks
+    have moved). ValueError when there is no exposed face (every edge of the group's blocks is
+    shared with another active block, or none lies ``within``) or they make no one chain."""
     from .water import exposed_faces
-    blocks = model.blocks
-    fb, f0, f1 = exposed_faces(blocks, model.props.active)
-    mine = np.isin(fb, model.group(ln.group))
+    fb, f0, f1 = exposed_faces(blocks, active)
+    mine = np.isin(fb, members)
     if ln.within is not None:
         mid = 0.5 * (f0 + f1) + blocks.centroid[fb]
         inside = shapely.contains_xy(shapely.Polygon(np.asarray(ln.within, float)),
                                      mid[:, 0], mid[:, 1])
         mine &= inside
     if not mine.any():
-        raise ValueError(f"liner: group {ln.group!r} has no exposed face"
-                         + (" inside `within`" if ln.within is not None else ""))
-    chain = _chain(fb[mine], f0[mine], f1[mine], blocks.centroid, ln.group)
+        left = int(np.count_nonzero(np.asarray(active)[members]))
+        why = (" inside `within` (no exposed face's middle lies in that polygon)"
+               if ln.within is not None and np.isin(fb, members).any() else
+               f" ({left} of its {len(members)} blocks left, each edge shared with another "
+               "block): give the group of the blocks on the surface, or excavate before the "
+               "liner")
+        raise ValueError(f"liner: group {ln.group!r} has no exposed face{why}")
+    return _chain(fb[mine], f0[mine], f1[mine], blocks.centroid, ln.group)
+
+
+def _liner_arrays(model, ln: Liner) -> dict:
+    blocks = model.blocks
+    chain = liner_faces(blocks, model.props.active, model.group(ln.group), ln)
     h = ln.segment_length or float(np.median(model.props.radius[model.props.active > 0]))
     st = model.state
     nodes, bonds = [], []                 # bonds: (node, block, normal, length)

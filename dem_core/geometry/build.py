@@ -23,7 +23,7 @@ from shapely.geometry import LineString
 from shapely.ops import substring
 
 from .blocks import BlockSystem
-from . import tessellate
+from . import budget, tessellate
 from .joints import traces_in_region
 from .mesh import BlockMesh, polygons_to_csr
 from .pieces import SIN_TOL, CellSplitter, convex_parts, is_convex, split_region_by_lines
@@ -117,13 +117,17 @@ def _groups(spec, region_id, centroid) -> dict:
     return groups
 
 
-def build_block_system(spec: GeometrySpec) -> BlockSystem:
+def build_block_system(spec: GeometrySpec, max_blocks: int | None = None) -> BlockSystem:
     """Build the blocks and their shared edges from a scene geometry.
 
     Parameters
     ----------
     spec : GeometrySpec
         Validated again before any compute (ValueError names the bad value).
+    max_blocks : int, optional
+        Refuse a geometry estimated at more blocks (default: the environment variable
+        ``DEM_MAX_BLOCKS``, if set); one that would need more memory than the machine has
+        available is always refused (``budget.check_size``, ValueError with the numbers).
 
     Returns
     -------
@@ -133,6 +137,7 @@ def build_block_system(spec: GeometrySpec) -> BlockSystem:
         set/line, the sliver-control counts and any warnings.
     """
     spec.validate()
+    budget.check_size(spec, max_blocks)
     t_start = time.perf_counter()
     polys = [r.polygon() for r in spec.regions]
     region_names = [r.name for r in spec.regions]

@@ -333,7 +333,8 @@ def diagnose(world, area, b, clock) -> str:
     c, s, p = world.contacts, world.state, world.props
     mine = np.flatnonzero((c.block_a[:c.n] == b) | (c.block_b[:c.n] == b))
     kmax = float(c.kn[mine].max()) if mine.size else 0.0
-    cause = _sliver(area, b) + _squeezed(c, mine, float(area[b]) / (2.0 * float(p.radius[b])))
+    width = float(area[b]) / (2.0 * float(p.radius[b]))
+    cause = _sliver(area, b) + _squeezed(c, mine, width) + _overstressed(c, mine, width)
     fixed = clock["fixed_dt"]
     if fixed is not None and fixed > clock["critical_dt"]:
         cause.append(f"the fixed dt {fixed:.3g} s exceeds the critical step "
@@ -341,7 +342,9 @@ def diagnose(world, area, b, clock) -> str:
     if mine.size and c.ks[mine].max() > 10 * c.kn[mine].min():
         cause.append("a large ks/kn ratio: lower the safety factor")
     cause = cause or [f"the time step {clock['dt']:.3g} s is too large for the stiffness "
-                      f"(kn up to {kmax:.3g} Pa/m): lower safety"]
+                      f"(kn up to {kmax:.3g} Pa/m): lower safety; or a load far too large "
+                      "for the contacts (a g-level, an applied force or stress: check its "
+                      "value and unit)"]
     return (f"unstable at step {clock['step']}, t = {clock['time']:.6g} s: block {b} "
             f"(centroid {s.pos[b].round(6).tolist()}, {mine.size} contacts, "
             f"velocity {s.vel[b].tolist()}) moved too far in one step or became "
@@ -354,6 +357,21 @@ def _sliver(area, b) -> list:
         return [f"a sliver (area {a:.3g} m^2 vs median {med:.3g}): merge it or use "
                 "mass_scaling=True"]
     return []
+
+
+def _overstressed(c, mine, width) -> list:
+    """A contact stress that would close its contact by more than the block's ``width`` (m):
+    sn / kn beyond it (an in-situ stress or load far too large for the contacts)."""
+    if not mine.size:
+        return []
+    closure = c.sn[mine] / c.kn[mine]
+    k = int(np.argmax(closure))
+    if not closure[k] > width:
+        return []
+    return [f"a contact stress of {float(c.sn[mine][k]):.3g} Pa, which would close a contact "
+            f"of kn {float(c.kn[mine][k]):.3g} Pa/m by {float(closure[k]):.3g} m, more than "
+            f"the block's width ({width:.3g} m): the stress (an in-situ stress or a load) is "
+            "far too large for the contacts, or kn far too small"]
 
 
 def _squeezed(c, mine, width) -> list:

@@ -75,6 +75,7 @@ def choose_timestep(world, cables, liners, options, table, previous_dt) -> TimeS
         w2max = max(w2max, _zone_frequency(world, target, options.mass_scaling))
     if w2max == 0 and support.has_nodes(cables, liners) and np.any(w2[p.active > 0] > 0):
         w2max = float(w2[p.active > 0].max())     # only the support moves
+    _check_representable(w2max, table, support.has_nodes(cables, liners))
     if w2max > 0:
         support.set_node_masses(cables, liners, w2max)
     critical = 2.0 / math.sqrt(w2max) if w2max > 0 else math.inf
@@ -83,6 +84,21 @@ def choose_timestep(world, cables, liners, options, table, previous_dt) -> TimeS
     if math.isfinite(critical):
         return TimeStep(options.safety * critical, critical)
     return TimeStep(previous_dt, critical)      # no contacts yet: cycle() asks for a dt
+
+
+def _check_representable(w2max, table, has_support) -> None:
+    """ValueError when omega_max^2 (1/s^2) is not a finite number whose step 2 / omega_max is
+    above 0: a stiffness (Pa/m) so large over the blocks' masses that the step under- or
+    overflows (e.g. kn = 1e308), named with the stiffest material."""
+    if math.isfinite(w2max) and (w2max == 0 or 2.0 / math.sqrt(w2max) > 0):
+        return
+    k = int(np.argmax(table.kn + table.ks))
+    raise ValueError(
+        f"no time step can be computed: omega_max^2 = {w2max:.3g} 1/s^2 from the contact "
+        f"stiffness over the blocks' masses; the stiffest material is {table.names[k]!r} "
+        f"(kn = {table.kn[k]:.3g}, ks = {table.ks[k]:.3g} Pa/m)"
+        + (", or a cable's or liner's stiffness" if has_support else "")
+        + ": a contact stiffness is about E / block size, 1e4 to 1e17 Pa/m")
 
 
 def _eigen(options, world) -> bool:

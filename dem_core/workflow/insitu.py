@@ -31,6 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .plausibility import check_stress
 from .water import check_surface, surface_height
 
 __all__ = ["InSitu", "top_surface", "model_top"]
@@ -104,6 +105,7 @@ class InSitu:
         if bad:
             raise ValueError(f"{where}: {bad} must be finite (Pa, Pa/m), got "
                              f"{[vals[n] for n in bad]}")
+        check_stress(vals, where)
         if self.k is not None:
             if not (math.isfinite(self.k) and self.k >= 0):
                 raise ValueError(f"{where}: k = sh / sv = {self.k!r} must be finite and >= 0")

@@ -21,6 +21,23 @@ and the likely slip; ``run-scene --strict`` turns them into errors:
 And, when the blocks are built (``build_model``), blocks under ``SLIVER`` = 1e-4 of the
 median block area: each one sets the time step (``Model(mass_scaling=True)`` lifts that).
 
+Magnitudes no rock can have are errors, naming the value and the range taken as physical
+(docs/bad-input.md):
+
+- a contact stiffness kn or ks outside ``STIFFNESS`` = 1e4..1e17 Pa/m: kn ~ E / L, with E from
+  1 MPa (a soft infill) to 1e12 Pa (stiffer than any rock) over blocks of 0.1 mm to 100 m
+  (the scenes shipped here use about 1e8 to 1e12 Pa/m); far beyond it the time step under- or
+  overflows (kn = 1e308 gave a ``ZeroDivisionError``);
+- a g-level above ``G_LEVEL_MAX`` = 1e4 (geotechnical centrifuges reach about 1e3 g);
+- an in-situ stress above ``STRESS_MAX`` = 1e10 Pa (the weight of about 400 km of rock; at
+  the depth of the deepest mines, about 4 km, it is about 0.1 GPa) or a stress gradient
+  above ``GRADIENT_MAX`` (the densest rock at ``G_LEVEL_MAX``).
+
+On the built model (``stages.check_on_model``, before the first step): a gravity or in-situ
+stress that would press the contacts together by more than a block's size
+(``check_gravity_closure``, ``check_stress_closure``): no contact law holds that, and the run
+would blow up at its first steps with a time-step message.
+
 Units inside are SI (docs/scenes.md): Pa, kg/m^3, degrees.
 """
 from __future__ import annotations
@@ -30,11 +47,14 @@ import warnings
 import numpy as np
 import shapely
 
+from ..units import STANDARD_GRAVITY
 from .water import WaterTable, surface_height
 
 __all__ = ["ScenePlausibilityWarning", "unusual", "check_water_reaches", "check_no_gaps",
-           "warn_unusual", "warn_slivers", "LIGHTEST", "FLATTEST", "WEAKEST_COHESION", "GAP",
-           "SLIVER"]
+           "warn_unusual", "warn_slivers", "check_stiffness", "check_g_level", "check_stress",
+           "check_gravity_closure", "check_stress_closure", "LIGHTEST", "FLATTEST",
+           "WEAKEST_COHESION", "GAP", "SLIVER", "STIFFNESS", "G_LEVEL_MAX", "STRESS_MAX",
+           "GRADIENT_MAX"]
 
 LIGHTEST = 500.0            # kg/m^3
 FLATTEST = 5.0              # deg
@@ -42,6 +62,10 @@ WEAKEST_COHESION = 1e3      # Pa, with a tensile strength of at least ...
 STRONG_TENSION = 1e5        # Pa
 GAP = 0.01                  # of the smaller region's size: regions closer than this must touch
 SLIVER = 1e-4               # of the median block area
+STIFFNESS = (1e4, 1e17)     # Pa/m: kn, ks outside are refused (module docstring)
+G_LEVEL_MAX = 1e4           # g-levels above are refused
+STRESS_MAX = 1e10           # Pa: in-situ stresses above are refused
+GRADIENT_MAX = 2.3e4 * STANDARD_GRAVITY * G_LEVEL_MAX    # Pa/m: 23 t/m^3 at G_LEVEL_MAX
 _SAMPLES = 201              # abscissae at which the ground and a water table are compared
 
 
@@ -153,3 +177,83 @@ def warn_unusual(scene) -> None:
     """Each line of ``unusual`` as a ``ScenePlausibilityWarning``."""
     for line in unusual(scene):
         warnings.warn(line, ScenePlausibilityWarning, stacklevel=3)
+
+
+# ---------------------------------------------------------------------- magnitudes
+def check_stiffness(materials: dict, where: str = "materials") -> None:
+    """ValueError naming the first material (name -> ``Material``) whose kn or ks (Pa/m) is
+    outside ``STIFFNESS``."""
+    lo, hi = STIFFNESS
+    for name, m in materials.items():
+        for key in ("kn", "ks"):
+            v = getattr(m, key)
+            if not lo <= v <= hi:
+                raise ValueError(f"{where}[{name!r}]: {key} = {v:.3g} Pa/m is not a contact "
+                                 f"stiffness (taken as physical: {lo:.0e} to {hi:.0e} Pa/m, "
+                                 f"about E / block size; the shipped scenes use about 1e+08 to "
+                                 f"1e+12)")
+
+
+def check_g_level(g_level, where: str) -> None:
+    """ValueError for a g-level above ``G_LEVEL_MAX``."""
+    if g_level > G_LEVEL_MAX:
+        raise ValueError(f"{where}: g_level {g_level:.3g} is not a physical gravity (at most "
+                         f"{G_LEVEL_MAX:g} g is taken; geotechnical centrifuges reach about "
+                         f"1e3 g)")
+
+
+def check_stress(values: dict, where: str) -> None:
+    """ValueError for an in-situ stress (Pa) above ``STRESS_MAX`` or a gradient (Pa/m) above
+    ``GRADIENT_MAX`` (``values``: name -> value, gradients named "g...")."""
+    for name, v in values.items():
+        limit, unit = (GRADIENT_MAX, "Pa/m") if name.startswith("g") else (STRESS_MAX, "Pa")
+        if abs(v) > limit:
+            raise ValueError(f"{where}: {name} = {v:.3g} {unit} is not a physical in-situ "
+                             f"{'stress gradient' if unit == 'Pa/m' else 'stress'} (at most "
+                             f"{limit:.3g} {unit} is taken; 1 km of rock is about 27 MPa)")
+
+
+def _block_size(model) -> float:
+    """The median block's size sqrt(area), m, over the active blocks."""
+    area = np.asarray(model.blocks.area)[model.props.active > 0]
+    return float(np.sqrt(np.median(area))) if area.size else 0.0
+
+
+def _closure_error(where, cause, stress, kn, model) -> None:
+    """ValueError when ``stress`` (Pa) on contacts of stiffness ``kn`` (Pa/m) closes them by
+    more than a block's size (``_block_size``)."""
+    size, closure = _block_size(model), stress / kn
+    if kn > 0 and closure > size > 0:
+        raise ValueError(f"{where}: {cause} would press the contacts together by about "
+                         f"{closure:.3g} m ({stress:.3g} Pa / kn {kn:.3g} Pa/m), more than a "
+                         f"block's size ({size:.3g} m): the load is far too large for these "
+                         f"contacts (or kn far too small), and the run would blow up")
+
+
+def check_gravity_closure(model, g_level, where: str) -> None:
+    """ValueError when the model's weight at ``g_level``, rho g H at the base of a column of
+    the model's height H, over the live contacts' median kn, closes a contact by more than a
+    block's size."""
+    c = model.contacts
+    if c.n == 0 or g_level <= 0:
+        return
+    y = np.asarray(model.blocks.vertices)[:, 1]
+    rho = float(np.max(model.props.mass / np.asarray(model.blocks.area)))
+    stress = rho * g_level * STANDARD_GRAVITY * float(np.ptp(y))
+    _closure_error(where, f"gravity of {g_level:.3g} g (rho g H = {stress:.3g} Pa at the "
+                          f"base)", stress, float(np.median(c.kn[:c.n])), model)
+
+
+def check_stress_closure(model, field, where: str, top=None) -> None:
+    """ValueError when the in-situ ``field`` (``insitu.InSitu``; ``top``: the model's top
+    polyline when its surface is None, ``insitu.model_top``) closes a live contact by more
+    than a block's size: the largest normal stress over its contact's kn."""
+    c = model.contacts
+    if c.n == 0:
+        return
+    xy = c.position(model.state.pos, model.state.rot)
+    n = c.normal(model.state)
+    sn, _ = field.traction(xy[:, 0], xy[:, 1], n[:, 0], n[:, 1], top)
+    k = int(np.argmax(np.abs(sn) / c.kn[:c.n]))
+    _closure_error(where, f"an in-situ normal stress of {abs(sn[k]):.3g} Pa", abs(sn[k]),
+                   float(c.kn[k]), model)

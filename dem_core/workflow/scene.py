@@ -119,6 +119,7 @@ class Scene:
         check_fields(self.solver, SolverOptions, "solver", partial=True)
         for name in contact_material_names(self.geometry):
             material_table([name], self.materials)        # names the missing material
+        plausibility.check_stiffness(self.materials)
         known = self.group_names()
         earlier = known - set(self.groups)          # a group may use the ones before it
         for gname, sel in self.groups.items():

@@ -37,6 +37,9 @@ def solve(model, settings, check_every=None, trace=None) -> monitor.SolveResult:
     missing = [n for n in st.watch if n not in model.points]
     if missing:
         raise ValueError(f"no history point(s) {missing}; add them with add_history_point")
+    if not np.any(model.props.active):
+        raise ValueError("solve: no block is left (every block was excavated): there is "
+                         "nothing to solve, and no verdict to give")
     check = int(check_every or max(model.history.every, 100))
     creep = st.creep if st.creep is not None else (
         0.0 if st.watch else 1e-3 * float(np.median(model.props.radius)))

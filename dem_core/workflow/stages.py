@@ -35,11 +35,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..settings import DEFAULT_SOLVE, SolveSettings
-from .insitu import InSitu
+from . import plausibility
+from .insitu import InSitu, model_top
 from .loading import Displace, Load, ServoLoad
 from ..contact.materials import Material
 from .strength import FactorOfSafety, StrengthSchedule, search_verdict
-from ..components.support import Cable, Liner
+from ..components.support import Cable, Liner, check_in_rock, liner_faces
 from .water import WaterTable
 
 __all__ = ["Gravity", "Solve", "Cycle", "RaiseGravity", "Excavate", "ChangeMaterial",
@@ -66,6 +67,7 @@ class Gravity:
                 and all(math.isfinite(v) for v in d) and math.hypot(*d) > 0):
             raise ValueError(f"stage {i} (gravity): g_level {self.g_level!r} must be >= 0 and "
                              f"direction {self.direction!r} a non-zero 2-vector")
+        plausibility.check_g_level(self.g_level, f"stage {i} (gravity)")
 
     def run(self, model):
         model.set_gravity(self.g_level, direction=self.direction)
@@ -129,6 +131,7 @@ class RaiseGravity:
         if not g or not all(math.isfinite(v) and v > 0 for v in g) or sorted(g) != g:
             raise ValueError(f"stage {i} (raise_gravity): g_levels must be increasing and > 0, "
                              f"got {self.g_levels!r}")
+        plausibility.check_g_level(g[-1], f"stage {i} (raise_gravity)")
         SolveSettings.of(self).validated(f"stage {i} (raise_gravity)")
 
     def run(self, model, on_level=None, resume=None):
@@ -184,8 +187,9 @@ class ChangeMaterial:
         if bad or not self.changes:
             raise ValueError(f"stage {i} (change_material): changes {sorted(self.changes)} must "
                              f"be Material fields {sorted(fields)}")
-        dataclasses.replace(materials[self.material], **self.changes).validated(
-            f"stage {i} (change_material {self.material!r})")
+        where = f"stage {i} (change_material {self.material!r})"
+        changed = dataclasses.replace(materials[self.material], **self.changes).validated(where)
+        plausibility.check_stiffness({self.material: changed}, f"{where}: materials")
 
     def run(self, model):
         model.set_material(self.material, **self.changes)
@@ -293,26 +297,53 @@ def check_stages(stages, groups, materials) -> None:
             gone[st.group] = i
 
 
-def check_on_model(stages, model) -> None:
+def check_on_model(stages, model, first=0) -> None:
     """What the stages need of the built model, before its first step (ValueError naming the
-    stage): every watched point is a monitoring point, every excavated group has blocks at the
-    start, every cable starts and ends in rock (on the model as built; excavations and
-    movement before the stage are checked again when it runs)."""
-    from ..components.support import Cable, check_in_rock
-    for i, st in enumerate(stages):
-        kind = _KIND_OF[type(st)]
+    stage, numbered from ``first``): every watched point is a monitoring point, every
+    excavated group has blocks when it is excavated and leaves some, every cable starts and
+    ends in rock, every liner's group has one chain of exposed faces when it is installed (the
+    excavations before it applied), and no gravity or in-situ stress presses the contacts
+    together by more than a block's size (``plausibility.check_gravity_closure``,
+    ``check_stress_closure``). Movement before a stage is not foreseen: a cable is checked on
+    the model as built, and again when it runs."""
+    active = model.props.active.copy()
+    for i, st in enumerate(stages, start=first):
+        where = f"stage {i} ({_KIND_OF[type(st)]})"
         missing = [p for p in getattr(st, "watch", ()) if p not in model.points]
         if missing:
-            raise ValueError(f"stage {i} ({kind}): watch names no monitoring point "
-                             f"{missing}; points are {sorted(model.points)}")
-        if isinstance(st, Excavate) and not len(model.group(st.group)):
-            raise ValueError(f"stage {i} (excavate): group {st.group!r} has no blocks")
-        if isinstance(st, Cable):
-            try:
+            raise ValueError(f"{where}: watch names no monitoring point {missing}; points are "
+                             f"{sorted(model.points)}")
+        _check_one_on_model(st, model, active, where)
+
+
+def _check_one_on_model(st, model, active, where) -> None:
+    """``check_on_model`` for one stage; ``active`` (nb,) the blocks left by the excavations
+    before it (an excavation updates it)."""
+    if isinstance(st, Excavate):
+        idx = model.group(st.group)
+        if not active[idx].any():
+            raise ValueError(f"{where}: group {st.group!r} has no blocks" + (
+                " left (excavated by an earlier stage)" if len(idx) else ""))
+        active[idx] = 0
+        if not active.any():
+            raise ValueError(f"{where}: group {st.group!r} holds every block left: nothing "
+                             "would remain to compute (a solve would report an equilibrium "
+                             "of nothing)")
+    elif isinstance(st, (Cable, Liner)):
+        try:
+            if isinstance(st, Cable):
                 check_in_rock(model, st)
-            except ValueError as e:
-                why = str(e).removeprefix("cable: ")
-                raise ValueError(f"stage {i} ({kind}): {why}") from None
+            else:
+                liner_faces(model.blocks, active, model.group(st.group), st)
+        except ValueError as e:
+            why = str(e).removeprefix("cable: ").removeprefix("liner: ")
+            raise ValueError(f"{where}: {why}") from None
+    elif isinstance(st, (Gravity, RaiseGravity)):
+        g = st.g_level if isinstance(st, Gravity) else max(st.g_levels)
+        plausibility.check_gravity_closure(model, float(g), where)
+    elif isinstance(st, InSitu):
+        top = None if st.surface is not None else model_top(model)
+        plausibility.check_stress_closure(model, st, where, top)
 
 
 def stage_table(records, points=None) -> str:
