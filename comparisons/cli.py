@@ -1,6 +1,11 @@
 """Command line: ``python -m comparisons list | run CASE [--quick|--full] [--set KEY=VALUE ...]
 [--out DIR] [--resume] [--restart] [--vtk] | run-scene FILE [--set KEY=VALUE ...] [--out DIR]
-[--resume] [--restart] [--vtk] [--check] [--strict] | demo``.
+[--resume] [--restart] [--vtk] [--check] [--strict] [--method dem|continuum|both] | demo``.
+
+``run-scene FILE --method continuum`` runs the scene's stages in the continuum (its
+"continuum" section: mesh size and each region's material), ``--method both`` in both methods
+with one report giving each method's column and run time (``comparisons.run_scene.
+run_continuum``); the default ``dem`` is the DEM alone.
 
 ``run-scene FILE --check`` checks the scene and builds its model (blocks and contacts, no
 step), draws it to ``OUT/<scene name>/check.png`` and prints one line (blocks, contacts, the
@@ -27,6 +32,7 @@ input."""
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 import time
 import warnings
@@ -82,6 +88,9 @@ def main(argv=None) -> int:
                        help="refuse the scene for an unusual value (a reservoir, a density, "
                             "friction or cohesion that looks like a unit slip) instead of "
                             "warning")
+    scene.add_argument("--method", choices=("dem", "continuum", "both"), default="dem",
+                       help="dem (default), continuum (the scene's \"continuum\" section: "
+                            "mesh size and region materials) or both, in one report")
     scene.add_argument("--quiet", action="store_true")
     demo = sub.add_parser("demo", help="the README's main job: the quick showcase case")
     demo.add_argument("--out", default="results")
@@ -98,7 +107,7 @@ def main(argv=None) -> int:
                                     strict=args.strict)
         return run_scene_file(args.file, Path(args.out), args.vtk, args.quiet,
                               settings=args.set, resume=args.resume, restart=args.restart,
-                              strict=args.strict)
+                              strict=args.strict, method=args.method)
     if args.command == "demo":
         return run_case(registry.DEMO_CASE, "quick", Path(args.out), seed=1, quiet=False)
     return run_case(args.case, args.variant or "quick", Path(args.out), args.seed, args.quiet,
@@ -166,7 +175,6 @@ def custom_variant(module, variant: str, settings) -> dict:
     """The settings of ``module.VARIANTS[variant]`` with each "KEY=VALUE" of ``settings``
     applied (VALUE parsed as JSON, else taken as a string). ValueError names an item that is
     not KEY=VALUE or a KEY the variant does not have."""
-    import json
 
     out = dict(module.VARIANTS[variant])
     for item in settings:
@@ -213,7 +221,8 @@ def scene_warnings(strict: bool = False):
 
 
 def run_scene_file(path, out: Path, vtk: bool = False, quiet: bool = False, settings=(),
-                   resume: bool = False, restart: bool = False, strict: bool = False) -> int:
+                   resume: bool = False, restart: bool = False, strict: bool = False,
+                   method: str = "dem") -> int:
     """``run-scene``: run a scene file's stages on the DEM model (with the ``--set`` items
     ``settings``) and write its results to ``out/<scene name>`` (``comparisons.run_scene``);
     ``resume``: go on after the stages an earlier run kept; ``restart``: delete them first;
@@ -222,14 +231,25 @@ def run_scene_file(path, out: Path, vtk: bool = False, quiet: bool = False, sett
     settings, or a model or stage list the checks before the first step refuse
     (``build_checked``: too large for the machine, a stage the model cannot take) are refused
     before any compute; a stage that raises ends with
-    status 1 after the outputs of the stages before it are written."""
-    from comparisons.run_scene import (build_checked, load_stages, prepare, run_prepared,
-                                       scene_source)
+    status 1 after the outputs of the stages before it are written. ``method``: "dem",
+    "continuum" (the scene's "continuum" section, ``comparisons.run_scene.run_continuum``; no
+    DEM model is built) or "both" (one report with both columns); a scene without a
+    "continuum" section, or with a stage the continuum cannot run, is refused before any
+    compute."""
+    from comparisons.run_scene import (build_checked, check_continuum, load_stages, prepare,
+                                       run_prepared, scene_source)
 
     with ExitStack() as stack:
         try:
             with scene_warnings(strict):
                 scene, folder = prepare(path, out, settings)
+            if method != "dem":
+                check_continuum(scene)
+        except ValueError as e:
+            return fail(str(e))
+        if method == "continuum":
+            return _continuum_only(scene, folder, path, quiet)
+        try:
             keep = stack.enter_context(store.case_output(
                 folder, resume=resume, restart=restart, source=scene_source(scene, settings)))
             kept = load_stages(keep) if keep.resume else None
@@ -246,6 +266,11 @@ def run_scene_file(path, out: Path, vtk: bool = False, quiet: bool = False, sett
                                       kept=kept)
     from comparisons.run_scene import verdict_lines
 
+    fe_error = None
+    if method == "both":
+        dem_time = json.loads((folder / "summary.json").read_text())["runtime_s"]
+        fe_records, fe_error = _continuum_column(scene, folder, path, progress,
+                                                 dem=(records, dem_time))
     n = len(records)
     print(f"{Path(path).name}: {n} stage{'s' if n != 1 else ''} run, "
           f"{time.perf_counter() - t0:.1f} s with the outputs")
@@ -253,11 +278,42 @@ def run_scene_file(path, out: Path, vtk: bool = False, quiet: bool = False, sett
     print("Verdicts:")
     for line in verdict_lines(records, error, scene.stages):
         print(f"  {line}")
+    if method == "both":
+        _print_continuum(fe_records, fe_error)
     if error is not None:
         print(f"{PROG}: stage {len(records)} stopped the run: {type(error).__name__}: {error}",
               file=sys.stderr)
         return 1
-    return 0
+    return 1 if fe_error is not None else 0
+
+
+def _continuum_column(scene, folder, path, progress, dem=None):
+    from comparisons.run_scene import run_continuum
+
+    return run_continuum(scene, folder, path, progress=progress, dem=dem)
+
+
+def _print_continuum(records, error) -> None:
+    from comparisons.run_scene import continuum_line
+
+    print("Continuum:")
+    for r in records:
+        print(f"  {continuum_line(r)}")
+    if error is not None:
+        print(f"{PROG}: the continuum run stopped: {type(error).__name__}: {error}",
+              file=sys.stderr)
+
+
+def _continuum_only(scene, folder, path, quiet) -> int:
+    """``run-scene --method continuum``: the scene's stages in the continuum alone."""
+    progress = Progress(scene.name, quiet=quiet)
+    t0 = time.perf_counter()
+    records, error = _continuum_column(scene, folder, path, progress)
+    print(f"{Path(path).name}: {len(records)} continuum stage{'s' if len(records) != 1 else ''}"
+          f" run, {time.perf_counter() - t0:.1f} s with the outputs")
+    print(f"results written to {folder.resolve()}/ (report: {(folder / 'report.md').resolve()})")
+    _print_continuum(records, error)
+    return 1 if error is not None else 0
 
 
 def check_scene_file(path, out: Path, settings=(), strict: bool = False) -> int:

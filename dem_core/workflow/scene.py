@@ -45,14 +45,30 @@ GROUP_SELECTORS = ("touching", "region", "inside", "union", "minus")
 SIDES = ("bottom", "top", "left", "right")
 _SCENE_KEYS = {"name", "description", "geometry", "materials", "density", "block_E",
                "block_nu", "groups", "boundaries", "points", "stages", "solver",
-               "after_failure"}
+               "after_failure", "continuum"}
 # the kind of each top-level value of a scene file (``Scene.from_dict``)
 _SCENE_KINDS = {"name": str, "description": str, "materials": dict, "groups": dict,
                 "boundaries": list, "points": dict, "stages": list, "solver": dict,
-                "geometry": dict, "after_failure": str}
+                "geometry": dict, "after_failure": str, "continuum": dict}
 # Model options a scene may set: the SolverOptions fields but the block moduli (the scene's
 # own top-level keys)
 SOLVER_KEYS = set(SCENE_SOLVER_KEYS)
+# The optional "continuum" section (``check_continuum``): mesh size h (m), the rock-mass
+# material of each region (name or fnmatch pattern -> {"kind": ..., fields}) and the flow rule
+# of a factor of safety (``continuum_ref.ssr``); ``continuum_ref.scene_run`` runs it.
+CONTINUUM_KEYS = ("h", "materials", "flow")
+CONTINUUM_FLOWS = ("native", "davis")
+# kind -> (fields it takes, fields it needs); units: E, cohesion, tensile_strength, sci,
+# sigma3_max Pa; friction, dilation degrees; h m. A Hoek-Brown rock mass is given by gsi, mi
+# (and D) or by mb, s, a and E; sigma3_max (and dilation) make its equivalent Mohr-Coulomb for
+# a factor of safety (``continuum_ref.materials.HoekBrown.equivalent_mohr_coulomb``).
+CONTINUUM_MATERIALS = {
+    "elastic": (("E", "nu"), ("E", "nu")),
+    "mohr_coulomb": (("E", "nu", "cohesion", "friction", "dilation", "tensile_strength"),
+                     ("E", "nu", "cohesion", "friction")),
+    "hoek_brown": (("E", "nu", "sci", "gsi", "mi", "D", "mb", "s", "a", "sigma3_max",
+                    "dilation"), ("sci",)),
+}
 
 
 @dataclass(frozen=True)
@@ -75,7 +91,10 @@ class Scene:
     selector. boundaries : list of Boundary. points : name -> (x, y) m. stages : stage records
     (``stages.py``). solver : Model options (``SOLVER_KEYS``). after_failure : "stop" (the
     stages after one that leaves the model failed or undecided do not run,
-    ``stages.run_stages``) or "continue".
+    ``stages.run_stages``) or "continue". continuum : what the continuum needs to run the
+    scene (``continuum_ref.scene_run``): {"h": mesh size (m), "materials": {region name or
+    pattern: {"kind": "elastic", "mohr_coulomb" or "hoek_brown", fields}}, "flow": "native" or
+    "davis"} (``check_continuum``, docs/scenes.md); None: DEM only.
     """
 
     geometry: GeometrySpec
@@ -91,6 +110,7 @@ class Scene:
     name: str = "scene"
     description: str = ""
     after_failure: str = "stop"
+    continuum: dict | None = None
 
     def __post_init__(self):
         self.boundaries = [b if isinstance(b, Boundary) else _boundary(b, i)
@@ -140,6 +160,8 @@ class Scene:
                 check_fields({f.name: getattr(st, f.name) for f in dataclasses.fields(st)},
                              type(st), f"stage {i} ({kind})")
         check_stages(self.stages, known, self.materials)
+        if self.continuum is not None:
+            check_continuum(self.continuum, [r.name for r in self.geometry.regions])
 
     def group_names(self) -> set:
         """Every group a boundary or stage may name: the scene's, the regions', the geometry's
@@ -152,7 +174,7 @@ class Scene:
 
     # ------------------------------------------------------------------ files
     def to_dict(self) -> dict:
-        return {"name": self.name, "description": self.description,
+        out = {"name": self.name, "description": self.description,
                 "geometry": self.geometry.to_dict(),
                 "materials": {k: dataclasses.asdict(m) for k, m in self.materials.items()},
                 "density": self.density, "block_E": self.block_E, "block_nu": self.block_nu,
@@ -161,6 +183,9 @@ class Scene:
                 "points": {k: list(v) for k, v in self.points.items()},
                 "stages": [stage_to_dict(s) for s in self.stages], "solver": self.solver,
                 "after_failure": self.after_failure}
+        if self.continuum is not None:       # absent when None: older files hash the same
+            out["continuum"] = self.continuum
+        return out
 
     @classmethod
     def from_dict(cls, d: dict) -> "Scene":
@@ -175,7 +200,8 @@ class Scene:
             d = {k: v for k, v in d.items() if k != "$schema"}
         check_keys(d, _SCENE_KEYS, "scene", required=("geometry", "materials", "density"))
         for key, kind in _SCENE_KINDS.items():
-            if key in d and not isinstance(d[key], kind):
+            if key in d and not isinstance(d[key], kind) and not (
+                    key == "continuum" and d[key] is None):
                 raise ValueError(f"scene: {key} must be a "
                                  f"{_KIND_WORDS[kind]}, got {d[key]!r}"[:300])
         mats = {}
@@ -194,7 +220,8 @@ class Scene:
                     stages=[_stage(s, i) for i, s in enumerate(d.get("stages", []))],
                     solver=d.get("solver", {}), name=d.get("name", "scene"),
                     description=d.get("description", ""),
-                    after_failure=d.get("after_failure", "stop"))
+                    after_failure=d.get("after_failure", "stop"),
+                    continuum=d.get("continuum"))
         plausibility.check_no_gaps(scene)
         plausibility.check_water_reaches(scene)
         plausibility.warn_unusual(scene)
@@ -350,6 +377,46 @@ def contact_material_names(geometry: GeometrySpec) -> list:
             if polys[i].boundary.intersection(polys[j].boundary).length > 0.0:
                 names.append(f"boundary:{geometry.regions[i].name}|{geometry.regions[j].name}")
     return names
+
+
+def check_continuum(section, regions) -> None:
+    """Check a scene's "continuum" section (``CONTINUUM_KEYS``): ``h`` a mesh size > 0 (m),
+    ``materials`` {region name or fnmatch pattern: {"kind": one of ``CONTINUUM_MATERIALS``,
+    its fields}} covering every region of ``regions`` (names), each key matching one, and
+    ``flow`` one of ``CONTINUUM_FLOWS``. ValueError naming the bad key; the values' ranges
+    are checked when the materials are built (``continuum_ref.scene_run``)."""
+    import fnmatch
+
+    check_keys(section, CONTINUUM_KEYS, "continuum", required=("h", "materials"))
+    _positive("continuum: h (mesh size, m)", section["h"])
+    if section.get("flow", "native") not in CONTINUUM_FLOWS:
+        raise ValueError(f"continuum: flow must be one of {CONTINUUM_FLOWS}, got "
+                         f"{section['flow']!r}")
+    mats = section["materials"]
+    if not isinstance(mats, dict) or not mats:
+        raise ValueError(f"continuum: materials must be a mapping region (or pattern) -> "
+                         f"material, got {mats!r}"[:300])
+    for key, m in mats.items():
+        where = f"continuum: materials[{key!r}]"
+        if not any(fnmatch.fnmatchcase(r, key) for r in regions):
+            raise ValueError(f"{where} matches no region; regions are {sorted(regions)}")
+        if not isinstance(m, dict) or m.get("kind") not in CONTINUUM_MATERIALS:
+            got = m.get("kind") if isinstance(m, dict) else m
+            raise ValueError(f"{where}: kind must be one of {list(CONTINUUM_MATERIALS)}, got "
+                             f"{got!r}"[:300])
+        takes, needs = CONTINUUM_MATERIALS[m["kind"]]
+        check_keys(m, ("kind",) + takes, f"{where} ({m['kind']})", required=needs)
+        for k, v in m.items():
+            if k != "kind" and not (v is None or (_number(v) and math.isfinite(v))):
+                raise ValueError(f"{where}: {k} must be a number, got {v!r}")
+        if m["kind"] == "hoek_brown" and not ({"gsi", "mi"} <= set(m)
+                                              or {"mb", "s", "a", "E"} <= set(m)):
+            raise ValueError(f"{where} (hoek_brown): give gsi and mi (and D), or mb, s, a "
+                             f"and E")
+    for r in regions:
+        if not any(fnmatch.fnmatchcase(r, key) for key in mats):
+            raise ValueError(f"continuum: region {r!r} has no material (materials: "
+                             f"{sorted(mats)})")
 
 
 # ---------------------------------------------------------------------- helpers

@@ -1,0 +1,363 @@
+"""Run a scene's stage list in the continuum: the same file as the DEM, its "continuum" section
+giving the mesh size and each region's rock mass (``dem_core.workflow.scene.check_continuum``).
+
+``run_scene(scene)`` meshes the scene's regions (``from_scene.mesh_from_scene``: joints are
+not meshed, the rock mass smears them), applies its boundaries and monitoring points, and runs
+each stage as below; one ``ContinuumStageRecord`` per stage. Units: m, Pa, kg/m^3, degrees;
+g-levels in multiples of 9.81 m/s^2.
+
+- "gravity": gravity raised (or lowered) to ``g_level`` with load stepping
+  (``ContinuumModel.solve_gravity``); the direction must be straight down. After an in-situ
+  stage set at 0 g: gravity set, the field equilibrated, displacements zeroed.
+- "raise_gravity": critical g, gravity raised towards ``max(g_levels)`` until a limit
+  (``ssr.critical_g``; resolution ``refine_to`` or 0.05 g, ``failure_displacement`` (m) as the
+  runaway displacement); from 0 g, gravity is first solved at ``g_levels[0]``.
+- "insitu": the stress field at every quadrature point (``from_scene.apply_insitu``),
+  equilibrated by one Newton solve under the current gravity, displacements zeroed.
+- "excavate": the cells of a region or geometry group (or of a scene group
+  ``{"region": name}``) removed by the excavation-load method (``ContinuumModel.excavate``).
+- "water": the table's pore pressure (effective stress), stepped in on a model under gravity
+  (``from_scene.apply_water``); a surface of None drains it. ``on`` is not used: the pore
+  pressure acts in the whole mass.
+- "solve": one Newton solve at the current loads (the continuum is static: every stage ends
+  in equilibrium or fails).
+- "factor_of_safety": strength reduction of every Mohr-Coulomb region from F = 1 to
+  ``max(f_levels)`` (``ssr.factor_of_safety``; resolution ``refine_to`` or 0.0025; ``flow``
+  "native" or "davis"); the stage's contact ``materials`` are not used. A Hoek-Brown region
+  enters as its equivalent Mohr-Coulomb, which needs ``sigma3_max`` (Pa) in its entry.
+
+Every other kind (cycle, prescribe_velocity, release, servo, load, displace,
+strength_schedule, change_material, cable, liner) is refused before anything is meshed, naming
+it (``check_continuum_stages``): they act on blocks, contacts or contact materials the
+continuum does not have.
+"""
+from __future__ import annotations
+
+import fnmatch
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .materials import Elastic, HoekBrown, MohrCoulomb
+
+__all__ = ["run_scene", "build_continuum", "region_materials", "material_from_dict",
+           "check_continuum_stages", "check_boundaries", "ContinuumStageRecord", "CONTINUUM_STAGES",
+           "max_displacement"]
+
+CONTINUUM_STAGES = ("gravity", "raise_gravity", "insitu", "excavate", "water", "solve",
+                    "factor_of_safety")
+DEFAULT_G_TOL = 0.05       # g, resolution of a critical-g search without refine_to
+DEFAULT_F_TOL = 0.0025     # resolution of a factor of safety without refine_to
+STOPS = ("failed", "limit")
+
+
+@dataclass
+class ContinuumStageRecord:
+    """What one stage did in the continuum.
+
+    index, kind : the stage's place in the scene and its kind. verdict : "set",
+    "equilibrium", "failed" (no convergence), "limit" (a search found one: ``value`` is F or
+    g), "stable" (a search reached the end of its range) or "no limit" (a search stopped
+    without a mechanism: a solver failure, not a limit). value : F or the last stable g of a
+    search, else None. first_failed : the search's first failed F or g, else None.
+    max_displacement : largest nodal |u| (m) since the last reset (an in-situ stage zeroes
+    it). points : monitoring point -> (ux, uy) m. seconds : wall time (s). note : the search's
+    verdict in words, or the reason of a failure. detail : steps, Newton iterations.
+    """
+
+    index: int
+    kind: str
+    verdict: str
+    value: float | None
+    first_failed: float | None
+    max_displacement: float
+    points: dict
+    seconds: float
+    note: str = ""
+    detail: dict = field(default_factory=dict)
+
+
+# ---------------------------------------------------------------------- materials
+def material_from_dict(d: dict):
+    """(material, strength-reduction material) of a file entry ``{"kind": ..., fields}``
+    (``dem_core.workflow.scene.CONTINUUM_MATERIALS``): Elastic, MohrCoulomb or HoekBrown (from
+    gsi, mi, sci, D with Em of Hoek et al. 2002 unless E is given, or from mb, s, a, E); the
+    second is the material itself, or for Hoek-Brown its equivalent Mohr-Coulomb at
+    ``sigma3_max`` (Pa) with ``dilation`` (degrees), None without sigma3_max."""
+    d = {k: v for k, v in d.items() if v is not None}
+    kind = d.pop("kind")
+    if kind == "elastic":
+        mat = Elastic(float(d["E"]), float(d["nu"]))
+        return mat, mat
+    if kind == "mohr_coulomb":
+        mat = MohrCoulomb(**{k: float(v) for k, v in d.items()})
+        return mat, mat
+    if kind != "hoek_brown":
+        raise ValueError(f"unknown continuum material kind {kind!r}")
+    s3max, dilation = d.pop("sigma3_max", None), d.pop("dilation", None)
+    if "gsi" in d:
+        mat = HoekBrown.from_gsi(d["gsi"], d["mi"], d["sci"], D=d.get("D", 0.0),
+                                 E=d.get("E"), nu=d.get("nu", 0.3))
+    else:
+        mat = HoekBrown(E=d["E"], nu=d.get("nu", 0.3), sci=d["sci"], mb=d["mb"], s=d["s"],
+                        a=d["a"])
+    fos = None if s3max is None else mat.equivalent_mohr_coulomb(float(s3max), dilation)
+    return mat, fos
+
+
+def region_materials(scene, spec) -> tuple:
+    """({region: material}, {region: strength-reduction material or None}) in region order.
+    ``spec``: region name or fnmatch pattern -> a material (``continuum_ref.materials``) or
+    its file entry; a region takes its own name's entry, else the first pattern matching it.
+    ValueError naming a region without one, or a bad entry."""
+    mats, fos = {}, {}
+    for r in scene.geometry.regions:
+        key = r.name if r.name in spec else next(
+            (k for k in spec if fnmatch.fnmatchcase(r.name, k)), None)
+        if key is None:
+            raise ValueError(f"continuum: region {r.name!r} has no material "
+                             f"(materials: {sorted(spec)})")
+        entry = spec[key]
+        try:
+            mats[r.name], fos[r.name] = (material_from_dict(entry) if isinstance(entry, dict)
+                                         else (entry, entry))
+        except (ValueError, TypeError, KeyError) as e:
+            raise ValueError(f"continuum: materials[{key!r}]: {e}") from None
+        if isinstance(entry, HoekBrown):
+            fos[r.name] = None
+    return mats, fos
+
+
+# ---------------------------------------------------------------------- checks
+def _mesh_names(scene) -> set:
+    """The names a mesh of the scene has cells for: regions, geometry groups, region groups."""
+    g = scene.geometry
+    names = {r.name for r in g.regions} | set(g.groups)
+    for r in g.regions:
+        names |= set(r.groups)
+    return names
+
+
+def excavated_name(scene, group: str) -> str:
+    """The mesh name a scene group stands for: itself when the mesh has it, the region of a
+    scene group ``{"region": name}``; ValueError naming the group otherwise."""
+    names = _mesh_names(scene)
+    seen = group
+    while group not in names:
+        sel = scene.groups.get(group)
+        if not (isinstance(sel, dict) and "region" in sel):
+            raise ValueError(f"excavate {seen!r}: the continuum removes the cells of a region "
+                             f"or geometry group (or a scene group {{\"region\": name}}); "
+                             f"{seen!r} is " + (f"the selector {sel!r}" if sel else "unknown")
+                             + f"; mesh names: {sorted(names)}")
+        group = sel["region"]
+    return group
+
+
+def check_boundaries(scene) -> None:
+    """ValueError naming a scene boundary the mesh cannot take: its group must be made of box
+    sides (``from_scene.side_sets``: touching, union, minus)."""
+    from .from_scene import side_sets
+
+    for b in scene.boundaries:
+        if b.x or b.y:
+            side_sets(scene, b.group)
+
+
+def check_continuum_stages(scene, fos_materials=None) -> None:
+    """ValueError, before anything is meshed, naming every stage the continuum cannot run
+    (module docstring) or cannot run as given: gravity not straight down, an excavated group
+    the mesh has no cells for, a factor of safety of a Hoek-Brown region without
+    sigma3_max (``fos_materials``: region -> strength-reduction material or None)."""
+    from dem_core.workflow.stages import Excavate, FactorOfSafety, Gravity, stage_to_dict
+
+    bad = [(i, stage_to_dict(st)["kind"]) for i, st in enumerate(scene.stages)
+           if stage_to_dict(st)["kind"] not in CONTINUUM_STAGES]
+    if bad:
+        raise ValueError(
+            "the continuum cannot run stage" + ("s " if len(bad) > 1 else " ")
+            + ", ".join(f"{i} ({k})" for i, k in bad)
+            + f"; it runs {', '.join(CONTINUUM_STAGES)} (docs/scenes.md, \"The continuum\")")
+    for i, st in enumerate(scene.stages):
+        where = f"stage {i} ({stage_to_dict(st)['kind']})"
+        if isinstance(st, Gravity):
+            dx, dy = (float(v) for v in st.direction)
+            if dx != 0.0 or dy >= 0.0:
+                raise ValueError(f"{where}: the continuum's gravity acts straight down; "
+                                 f"direction {tuple(st.direction)} is refused")
+        elif isinstance(st, Excavate):
+            try:
+                excavated_name(scene, st.group)
+            except ValueError as e:
+                raise ValueError(f"{where}: {e}") from None
+        elif isinstance(st, FactorOfSafety) and fos_materials is not None:
+            missing = [r for r, m in fos_materials.items() if m is None]
+            if missing:
+                raise ValueError(f"{where}: Hoek-Brown region(s) {missing} need sigma3_max "
+                                 f"(Pa) in their continuum material for a strength reduction "
+                                 f"(their equivalent Mohr-Coulomb)")
+
+
+# ---------------------------------------------------------------------- running
+def build_continuum(scene, h, materials):
+    """The ContinuumModel of ``scene`` at mesh size ``h`` (m) with ``materials`` ({region:
+    material}): mesh with the scene's points, density ``scene.density`` (kg/m^3), the scene's
+    boundaries (``from_scene.apply_boundaries``)."""
+    from .from_scene import apply_boundaries, mesh_from_scene, scene_bounds
+    from .model import ContinuumModel
+
+    model = ContinuumModel(mesh_from_scene(scene, h), dict(materials), scene.density)
+    apply_boundaries(model, scene, scene_bounds(scene))
+    return model
+
+
+def max_displacement(model) -> float:
+    """Largest nodal |u| of ``model`` (m)."""
+    u = model.u.x.array.reshape(-1, 2)
+    return float(np.max(np.hypot(u[:, 0], u[:, 1]))) if len(u) else 0.0
+
+
+def run_scene(scene, h=None, materials=None, flow=None, progress=None) -> list:
+    """Run ``scene``'s stages in the continuum (module docstring); a list of
+    ``ContinuumStageRecord``, one per stage run.
+
+    h : mesh size (m); default the scene's ``continuum["h"]``. materials : region name or
+    pattern -> material or file entry; default the scene's ``continuum["materials"]``. flow :
+    "native" or "davis" for a factor of safety (``ssr.factor_of_safety``); default the
+    scene's ``continuum["flow"]``, else "native". progress : optional callable(str) after
+    each stage. Every stage is checked before the mesh is built (ValueError naming it). With
+    ``scene.after_failure`` "stop", the run ends after a stage that failed or a search that
+    found its limit.
+    """
+    section = scene.continuum or {}
+    h = section.get("h") if h is None else h
+    spec = section.get("materials") if materials is None else materials
+    flow = flow or section.get("flow", "native")
+    if h is None or spec is None:
+        raise ValueError(f"scene {scene.name!r} has no \"continuum\" section (mesh size h and "
+                         f"region materials): give h and materials")
+    mats, fos = region_materials(scene, spec)
+    check_boundaries(scene)
+    check_continuum_stages(scene, fos)
+    model = build_continuum(scene, h, mats)
+    runner = _Runner(model, scene, [fos[r] for r in mats], flow)
+    records = []
+    for i, st in enumerate(scene.stages):
+        rec = runner.run(i, st)
+        records.append(rec)
+        if progress is not None:
+            progress(f"continuum stage {i} {rec.kind}: {rec.verdict}"
+                     + (f" {rec.value:.4g}" if rec.value is not None else "")
+                     + f", {rec.seconds:.1f} s")
+        if scene.after_failure == "stop" and rec.verdict in STOPS and i + 1 < len(scene.stages):
+            break
+    return records
+
+
+class _Runner:
+    """Runs one stage at a time on a ContinuumModel (``run_scene``)."""
+
+    def __init__(self, model, scene, fos_materials, flow):
+        self.model, self.scene, self.fos, self.flow = model, scene, fos_materials, flow
+        self.insitu_pending = False        # a field set at 0 g, equilibrated by gravity
+
+    def run(self, i, st):
+        from dem_core.workflow.stages import stage_to_dict
+
+        kind = stage_to_dict(st)["kind"]
+        t0 = time.perf_counter()
+        verdict, value, failed, note, detail = getattr(self, "_" + kind)(st)
+        m = self.model
+        pts = {}
+        if self.scene.points:
+            u = m.displacement_at(list(self.scene.points))
+            pts = {n: (float(a), float(b)) for n, (a, b) in zip(self.scene.points, u)}
+        return ContinuumStageRecord(i, kind, verdict, value, failed, max_displacement(m), pts,
+                                    time.perf_counter() - t0, note, detail)
+
+    @staticmethod
+    def _solved(result, note=""):
+        verdict = "equilibrium" if result.converged else "failed"
+        if not result.converged:
+            note = note or (f"no convergence at load {result.failed_at!r} (last converged "
+                            f"{result.load_reached:.4g})")
+        return verdict, None, None, note, {"steps": result.steps,
+                                           "newton_iterations": result.newton_iterations}
+
+    def _settle_field(self):
+        result = self.model.equilibrate()
+        if result.converged:
+            self.model.reset_displacement()
+        return self._solved(result)
+
+    def _gravity(self, st):
+        if self.insitu_pending:
+            self.insitu_pending = False
+            self.model.set_gravity(float(st.g_level))
+            return self._settle_field()
+        return self._solved(self.model.solve_gravity(float(st.g_level)))
+
+    def _insitu(self, st):
+        from .from_scene import apply_insitu
+
+        apply_insitu(self.model, self.scene, st)
+        if self.model.g_level == 0.0:
+            self.insitu_pending = True
+            return "set", None, None, "equilibrated by the next gravity stage", {}
+        return self._settle_field()
+
+    def _excavate(self, st):
+        return self._solved(self.model.excavate(excavated_name(self.scene, st.group)))
+
+    def _water(self, st):
+        from .from_scene import apply_water
+
+        if self.model.g_level == 0.0:
+            apply_water(self.model, st, solve=False)
+            return "set", None, None, "", {}
+        return self._solved(apply_water(self.model, st, solve=True))
+
+    def _solve(self, st):
+        return self._solved(self.model.equilibrate())
+
+    def _raise_gravity(self, st):
+        from .ssr import critical_g
+
+        m, levels = self.model, [float(g) for g in st.g_levels]
+        if m.g_level == 0.0:
+            first = m.solve_gravity(levels[0])
+            if not first.converged:
+                return self._solved(first)
+        if levels[-1] <= m.g_level:
+            return "stable", m.g_level, None, f"already at {m.g_level:g} g", {}
+        limit = critical_g(m, levels[-1], tol=st.refine_to or DEFAULT_G_TOL,
+                           runaway=st.failure_displacement)
+        return self._limit(limit)
+
+    def _factor_of_safety(self, st):
+        from .ssr import factor_of_safety
+
+        m = self.model
+        if any(isinstance(x, HoekBrown) for x in m.materials):
+            m.set_materials(self.fos)              # the equivalent Mohr-Coulomb at F = 1
+            settled = m.equilibrate()
+            if not settled.converged:
+                return self._solved(settled, "the equivalent Mohr-Coulomb rock mass is not in "
+                                             "equilibrium at F = 1")
+        f_max = max(float(f) for f in st.f_levels)
+        if not f_max > 1.0:
+            return "failed", None, None, f"f_levels {list(st.f_levels)} end at or below 1", {}
+        limit = factor_of_safety(m, self.fos, f_max=f_max, f_start=1.0,
+                                 tol=st.refine_to or DEFAULT_F_TOL,
+                                 runaway=st.failure_displacement, flow=self.flow)
+        return self._limit(limit)
+
+    @staticmethod
+    def _limit(limit):
+        verdict = ("limit" if limit.found else "stable" if limit.first_failed is None
+                   else "no limit")
+        value = limit.value if verdict != "no limit" else None
+        return verdict, value, limit.first_failed, limit.note, {
+            "steps": limit.steps, "newton_iterations": limit.newton_iterations,
+            "last_converged": limit.value, "upturn": limit.upturn}
