@@ -42,6 +42,7 @@ negative, so it lowers no natural period.
 """
 from __future__ import annotations
 
+import functools
 import math
 import warnings
 
@@ -84,6 +85,7 @@ def shape_area(shape: str) -> float:
     return float(shape_integral(SHAPES[shape], 1.0))
 
 
+@functools.lru_cache(maxsize=None)
 def shape_max_slope(shape: str) -> float:
     """max |f'| on [0, 1] (1 linear; 6.96 Hordijk, at x = 0), from the derivative sampled."""
     if shape == "linear":
