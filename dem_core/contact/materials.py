@@ -18,7 +18,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .softening import SHAPES, critical_displacement, shape_max_slope
+from .softening import SHAPES, critical_displacement, snap_back
 
 __all__ = ["Material", "MaterialTable", "material_for", "material_table",
            "COL_TENSILE_STRENGTH", "COL_COHESION", "COL_TAN_FRICTION",
@@ -252,21 +252,18 @@ def material_table(material_names, mapping: dict, unbreakable: str | None = None
 
 def check_snap_back(name, kn, ks, m: Material) -> None:
     """ValueError naming the material when its softening would snap back at a contact of
-    stiffness kn, ks (Pa/m): the return (``softening.return_to_envelope``) has one solution
-    only while k L > drop max|f'| (L = w_c or s_c), i.e. while the elastic displacement at the
-    peak, drop / k, is shorter than the softening. (Friction softening is checked at zero
-    normal stress.) kn, ks may be arrays (the contacts' series stiffness)."""
+    stiffness kn, ks (Pa/m; ``softening.snap_back``). (Friction softening is checked at zero
+    normal stress.)"""
     if not m.softens:
         return
-    slope = shape_max_slope(m.softening)
     for mode, G, k, L, drop in (
             ("fracture_energy_I", m.fracture_energy_I, kn, m.critical_opening(),
              m.tensile_strength - m.residual_tensile_strength),
             ("fracture_energy_II", m.fracture_energy_II, ks, m.critical_slip(),
              m.cohesion - m.residual_cohesion)):
-        k_min = float(np.min(k))
-        if L > 0.0 and k_min * L <= drop * slope:
-            need = G * drop * slope / (k_min * L)      # L grows in proportion to G
+        snaps = snap_back(G, k, L, drop, m.softening)
+        if snaps:
+            k_min, need = snaps
             raise ValueError(
                 f"{name}: {mode}={G!r} J/m^2 is too small for a contact stiffness of "
                 f"{k_min:.4g} Pa/m: the {m.softening} softening would snap back (the peak's "

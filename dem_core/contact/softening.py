@@ -52,7 +52,7 @@ from numba import njit
 from .elastic import lattice_moduli
 
 __all__ = ["SHAPES", "shape_area", "shape_max_slope", "critical_displacement",
-           "return_to_envelope", "shape_value", "shape_integral", "check_contacts",
+           "return_to_envelope", "shape_value", "shape_integral", "snap_back", "check_contacts",
            "characteristic_lengths", "warn_unresolved", "SofteningResolutionWarning"]
 
 SHAPES = {"linear": 1, "hordijk": 2}    # the code in MaterialTable's softening column
@@ -149,32 +149,43 @@ def return_to_envelope(q, k, L, kappa, A, B, shape):
     return x, delta, (work if work > 0.0 else 0.0)
 
 
-def _slope(code) -> float:
-    return shape_max_slope({v: k for k, v in SHAPES.items()}[int(code)])
+def snap_back(G, k, L, drop, shape: str):
+    """(k_min, G needed) when a softening of fracture energy ``G`` (J/m^2), critical
+    displacement ``L`` (m) and strength drop ``drop`` (Pa) snaps back at the softest of the
+    stiffnesses ``k`` (Pa/m; a number or an array): the return (``return_to_envelope``) has
+    one solution only while k L > drop max|f'|, i.e. while the peak's elastic displacement
+    drop / k is shorter than the softening. None when it does not (or the mode is brittle)."""
+    k_min = float(np.min(k))
+    slope = shape_max_slope(shape)
+    if L > 0.0 and k_min * L <= drop * slope:
+        return k_min, G * drop * slope / (k_min * L)        # L grows in proportion to G
+    return None
 
 
 def check_contacts(table, contacts) -> None:
     """ValueError naming the material when a softening bond would snap back at one of its
     contacts, whose stiffness (in series with the blocks) may be below the material's own."""
     m = contacts.live("material")
+    names = {v: k for k, v in SHAPES.items()}
     for i in np.flatnonzero(table.softening > 0):
         mine = m == i
         if not mine.any():
             continue
-        slope = _slope(table.softening[i])
+        shape = names[int(table.softening[i])]
         for mode, k, L, drop in (
                 ("fracture_energy_I", contacts.live("kn")[mine], table.critical_opening[i],
                  table.tensile_strength[i] - table.residual_tensile_strength[i]),
                 ("fracture_energy_II", contacts.live("ks")[mine], table.critical_slip[i],
                  table.cohesion[i] - table.res_cohesion[i])):
-            k_min = float(k.min())
-            if L > 0.0 and k_min * L <= drop * slope:
-                G = L * drop * shape_integral(int(table.softening[i]), 1.0)
+            G = L * drop * shape_area(shape)
+            snaps = snap_back(G, k, L, drop, shape)
+            if snaps:
+                k_min, need = snaps
                 raise ValueError(
                     f"{table.names[i]}: the {mode} softening would snap back at a contact of "
                     f"stiffness {k_min:.4g} Pa/m (in series with its blocks): the peak's elastic "
                     f"displacement {drop / k_min:.3g} m against a softening length of {L:.3g} m;"
-                    f" it needs {mode} > {G * drop * slope / (k_min * L):.4g} J/m^2")
+                    f" it needs {mode} > {need:.4g} J/m^2")
 
 
 def characteristic_lengths(table, contacts, pos) -> dict:
