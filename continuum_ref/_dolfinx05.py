@@ -4,6 +4,10 @@ When the project moves to a newer DOLFINx, this is the module to port: `model_to
 (gmshio signature), quadrature elements (basix.ufl in >= 0.7), Expression.eval (mesh argument
 in >= 0.8), `form_compiler_params` (renamed `form_compiler_options` in 0.6) and geometry queries.
 """
+import contextlib
+import logging
+from pathlib import Path
+
 import basix
 import numpy as np
 import ufl
@@ -13,7 +17,7 @@ from dolfinx.io import gmshio
 from mpi4py import MPI
 from petsc4py import PETSc
 
-__all__ = ["model_to_mesh", "quadrature_space", "quadrature_points", "quadrature_measure",
+__all__ = ["compile_form", "compiler_log", "model_to_mesh", "quadrature_space", "quadrature_points", "quadrature_measure",
            "compile_expression", "eval_expression", "block_index", "local_cells",
            "cells_containing", "create_matrix", "create_vector", "assemble_matrix",
            "assemble_residual", "assemble_vector_plain", "keep_cell_dofs", "lu_solver",
@@ -22,14 +26,16 @@ __all__ = ["model_to_mesh", "quadrature_space", "quadrature_points", "quadrature
 
 def model_to_mesh(model, gdim=2):
     """Read the current gmsh model (on rank 0) into a distributed DOLFINx mesh and tags."""
-    return gmshio.model_to_mesh(model, MPI.COMM_WORLD, 0, gdim=gdim)
+    with compiler_log():
+        return gmshio.model_to_mesh(model, MPI.COMM_WORLD, 0, gdim=gdim)
 
 
 def quadrature_space(mesh, degree, dim):
     """Function space of `dim` values at every quadrature point (degree `degree`) of each cell."""
     element = ufl.VectorElement("Quadrature", mesh.ufl_cell(), degree=degree, dim=dim,
                                 quad_scheme="default")
-    return fem.FunctionSpace(mesh, element)
+    with compiler_log():
+        return fem.FunctionSpace(mesh, element)
 
 
 def quadrature_points(degree):
@@ -45,7 +51,57 @@ def quadrature_measure(mesh, degree, subdomain_data=None):
 
 def compile_expression(expr, points):
     """JIT-compile a UFL expression for evaluation at reference `points`."""
-    return fem.Expression(expr, points)
+    with compiler_log():
+        return fem.Expression(expr, points)
+
+
+def compile_form(form):
+    """``fem.form(form)``: JIT-compile a UFL form (``compiler_log`` keeps the compiler's lines
+    off the console)."""
+    with compiler_log():
+        return fem.form(form)
+
+
+@contextlib.contextmanager
+def compiler_log():
+    """While forms and elements compile, the compiler's lines go to ``<DOLFINx JIT
+    cache>/compile.log`` instead of the console.
+
+    What is not in the JIT cache yet is built by cffi through distutils, which sets the root
+    logger to INFO and logs every compiler command through it; ffcx installs a stderr handler
+    on the root logger when it is imported (``logging.basicConfig()``), so a first run prints
+    dozens of ``INFO:root:x86_64-linux-gnu-gcc ...`` lines. Meanwhile the root logger's own
+    records under WARNING (distutils') are kept off its handlers by a filter and written to
+    the file; its level is restored afterwards. Named loggers and warnings pass as before."""
+    root = logging.getLogger()
+    level, handlers = root.level, list(root.handlers)
+    chatter = _RootChatter()
+    for h in handlers:
+        h.addFilter(chatter)
+    try:
+        from dolfinx import jit
+        path = Path(jit.get_parameters()["cache_dir"]) / "compile.log"
+        path.parent.mkdir(parents=True, exist_ok=True)
+        log = logging.FileHandler(path, delay=True)
+    except (OSError, KeyError, ImportError):
+        log = logging.NullHandler()
+    log.addFilter(lambda record: not chatter.filter(record))
+    root.addHandler(log)
+    try:
+        yield
+    finally:
+        root.removeHandler(log)
+        log.close()
+        for h in handlers:
+            h.removeFilter(chatter)
+        root.setLevel(level)
+
+
+class _RootChatter(logging.Filter):
+    """Rejects the root logger's own records under WARNING (the compiler's lines)."""
+
+    def filter(self, record):
+        return not (record.name == "root" and record.levelno < logging.WARNING)
 
 
 def eval_expression(compiled, cells):

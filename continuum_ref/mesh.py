@@ -89,8 +89,10 @@ class MeshData:
         """Sum of the cell areas of the mesh (assembled), m2."""
         import ufl
         from dolfinx import fem
+
+        from continuum_ref._dolfinx05 import compile_form
         one = fem.Constant(self.mesh, 1.0)
-        local = fem.assemble_scalar(fem.form(one * ufl.dx(domain=self.mesh)))
+        local = fem.assemble_scalar(compile_form(one * ufl.dx(domain=self.mesh)))
         return self.mesh.comm.allreduce(local)
 
 

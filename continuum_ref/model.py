@@ -104,7 +104,9 @@ class ContinuumModel:
         if np.any(~np.isfinite(rho_cell)) or np.any(rho_cell < 0):
             raise ValueError(f"density must be finite and >= 0, got {rho_list}")
         # Spaces and state.
-        self.V = fem.VectorFunctionSpace(msh, ("CG", degree))
+        with dx.compiler_log():                    # each space compiles its element once
+            self.V = fem.VectorFunctionSpace(msh, ("CG", degree))
+            dg0 = fem.FunctionSpace(msh, ("DG", 0))
         self._qdeg = 2 * (degree - 1) if degree > 1 else 1
         self._qdeg = max(self._qdeg, 1)
         qpts, self._qwts = dx.quadrature_points(self._qdeg)
@@ -115,7 +117,7 @@ class ContinuumModel:
         self.u = fem.Function(self.V, name="displacement")
         self._sig = fem.Function(W4)
         self._tan = fem.Function(W16)
-        self.rho = fem.Function(fem.FunctionSpace(msh, ("DG", 0)))
+        self.rho = fem.Function(dg0)
         self.rho.x.array[: ncells] = rho_cell
         npts = ncells * self._nq
         self._point_material = np.repeat(self._cell_material, self._nq)
@@ -216,7 +218,7 @@ class ContinuumModel:
             for tag, _, const, _ in self._tractions:
                 F -= ufl.inner(const, v) * ds(tag)
         J = ufl.inner(ufl.dot(C, _eps_mandel(du)), _eps_mandel(v)) * dxq
-        self._F, self._J = fem.form(F), fem.form(J)
+        self._F, self._J = dx.compile_form(F), dx.compile_form(J)
         self._eps_expr = dx.compile_expression(_eps_mandel(self.u), self._qpts)
         self._A = dx.create_matrix(self._J)
         self._b = dx.create_vector(self._F)
@@ -577,8 +579,8 @@ class ContinuumModel:
             v = ufl.TestFunction(self.V)
             sig, rho = fem.Function(self._W4), fem.Function(self.rho.function_space)
             dxq = dx.quadrature_measure(self.mesh, self._qdeg)
-            form = fem.form(ufl.inner(sig, _eps_mandel(v)) * dxq
-                            - ufl.inner(rho * self._g_vec, v) * ufl.dx)
+            form = dx.compile_form(ufl.inner(sig, _eps_mandel(v)) * dxq
+                                   - ufl.inner(rho * self._g_vec, v) * ufl.dx)
             self._exc_form = (form, sig, rho)
         form, sig, rho = self._exc_form
         total = np.zeros_like(self.sig_n)

@@ -34,6 +34,8 @@ from pathlib import Path
 import numpy as np
 from dolfinx import fem, io
 
+from ._dolfinx05 import compiler_log
+
 __all__ = ["write_xdmf", "XdmfSeries", "FIELDS"]
 
 FIELDS = ("displacement", "stress", "stress_zz", "yield_shear", "yield_tension", "yield",
@@ -56,9 +58,11 @@ class XdmfSeries:
         self._file = io.XDMFFile(msh.comm, str(path), "w", encoding=_ENCODINGS[encoding])
         self._file.write_mesh(msh)
         degree = msh.geometry.cmap.degree
-        self._u = fem.Function(fem.VectorFunctionSpace(msh, ("CG", degree)), name="displacement")
-        self._stress = fem.Function(fem.TensorFunctionSpace(msh, ("DG", 0)), name="stress")
-        dg0 = fem.FunctionSpace(msh, ("DG", 0))
+        with compiler_log():
+            self._u = fem.Function(fem.VectorFunctionSpace(msh, ("CG", degree)),
+                                   name="displacement")
+            self._stress = fem.Function(fem.TensorFunctionSpace(msh, ("DG", 0)), name="stress")
+            dg0 = fem.FunctionSpace(msh, ("DG", 0))
         self._scalars = {name: fem.Function(dg0, name=name) for name in FIELDS[2:]}
         self._mesh = msh
 

@@ -31,7 +31,7 @@ from .contact.update import search_contacts
 from .deformable import held as zone_bc
 from .deformable import setup as zone_setup
 from .geometry.blocks import BlockSystem, group_blocks
-from .jit_cache import compiled
+from .jit_cache import compiled, first_run_notice
 from .output import energy, io, monitor
 from .settings import (SolverOptions, SolveSettings, material_names, new_contact_material,
                        per_block, search_margin)
@@ -67,6 +67,7 @@ class Model:
         if not isinstance(blocks, BlockSystem):
             raise ValueError(f"blocks must be a BlockSystem, got {type(blocks).__name__}")
         opts = (options or SolverOptions()).replace(**changes)
+        first_run_notice(stepper.run_steps)        # a minute of compiling, not a hang
         groups = blocks.groups
         self.blocks = blocks
         self.materials = dict(materials)
