@@ -553,6 +553,13 @@ class ContinuumModel:
             self._release_force, self._release = None, 0.0
         return result
 
+    def excavated(self):
+        """(ncells,) bool: the cells an ``excavate`` removed (the void's soft material)."""
+        void = self._void_index()
+        if void is None:
+            return np.zeros(len(self._cells), bool)
+        return self._cell_material == void
+
     def _void_index(self):
         """Index of the soft elastic material of excavated cells, None before `excavate`."""
         ref = max(m.E for m in self.materials)

@@ -218,7 +218,7 @@ def max_displacement(model) -> float:
     return float(np.max(np.hypot(u[:, 0], u[:, 1]))) if len(u) else 0.0
 
 
-def run_scene(scene, h=None, materials=None, flow=None, progress=None) -> list:
+def run_scene(scene, h=None, materials=None, flow=None, progress=None, on_stage=None) -> list:
     """Run ``scene``'s stages in the continuum (module docstring); a list of
     ``ContinuumStageRecord``, one per stage run.
 
@@ -226,7 +226,8 @@ def run_scene(scene, h=None, materials=None, flow=None, progress=None) -> list:
     pattern -> material or file entry; default the scene's ``continuum["materials"]``. flow :
     "native" or "davis" for a factor of safety (``ssr.factor_of_safety``); default the
     scene's ``continuum["flow"]``, else "native". progress : optional callable(str) after
-    each stage. Every stage is checked before the mesh is built (ValueError naming it). With
+    each stage. on_stage : optional callable(model, record) after each stage, with the model
+    at the stage's end (e.g. to draw it: ``continuum_ref.plot.stage_figure``). Every stage is checked before the mesh is built (ValueError naming it). With
     ``scene.after_failure`` "stop", the run ends after a stage that failed or a search that
     found its limit.
     """
@@ -246,6 +247,8 @@ def run_scene(scene, h=None, materials=None, flow=None, progress=None) -> list:
     for i, st in enumerate(scene.stages):
         rec = runner.run(i, st)
         records.append(rec)
+        if on_stage is not None:
+            on_stage(model, rec)
         if progress is not None:
             progress(f"continuum stage {i} {rec.kind}: {rec.verdict}"
                      + (f" {rec.value:.4g}" if rec.value is not None else "")

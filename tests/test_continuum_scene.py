@@ -181,3 +181,28 @@ def test_method_both_refuses_a_stage_the_continuum_cannot_run_before_the_dem_run
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "stage 1 (cycle)" in err[0]
     assert not (tmp_path / "tiny" / "summary.json").exists()
+
+
+def test_each_stage_can_be_drawn_at_its_end_without_the_excavated_cells():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from continuum_ref.plot import live_cells, stage_figure
+    from continuum_ref.scene_run import run_scene
+
+    scene = cut_scene([Gravity(1.0), Excavate("lift1"), Excavate("lift2")])
+    seen = []
+
+    def draw(model, rec):
+        live = live_cells(model)
+        fig = stage_figure(model, f"stage {rec.index} ({rec.kind}): {rec.verdict}")
+        yield_cells = fig.axes[1].collections[0].get_array().size   # one colour per cell drawn
+        seen.append((rec.kind, int(live.sum()), len(live), yield_cells, fig._suptitle.get_text()))
+        plt.close(fig)
+
+    run_scene(scene, on_stage=draw)
+    (k0, live0, n0, drawn0, t0), (_, live1, _, drawn1, t1), (_, live2, _, drawn2, t2) = seen
+    assert live0 == n0 == drawn0 and "excavated" not in t0 and t0.startswith("stage 0 (gravity)")
+    assert n0 > live1 == drawn1 > live2 == drawn2 > 0
+    assert f"{n0 - live2} excavated cells not drawn" in t2 and "stage 2 (excavate)" in t2
