@@ -109,7 +109,8 @@ def material_from_dict(d: dict):
 def region_materials(scene, spec) -> tuple:
     """({region: material}, {region: strength-reduction material or None}) in region order.
     ``spec``: region name or fnmatch pattern -> a material (``continuum_ref.materials``) or
-    its file entry; a region takes its own name's entry, else the first pattern matching it.
+    its file entry (a ``dem_rock_mass`` entry: ``rock_mass.dem_rock_mass`` of the region);
+    a region takes its own name's entry, else the first pattern matching it.
     ValueError naming a region without one, or a bad entry."""
     mats, fos = {}, {}
     for r in scene.geometry.regions:
@@ -120,6 +121,11 @@ def region_materials(scene, spec) -> tuple:
                              f"(materials: {sorted(spec)})")
         entry = spec[key]
         try:
+            if isinstance(entry, dict) and entry.get("kind") == "dem_rock_mass":
+                from .rock_mass import dem_rock_mass
+                mat = dem_rock_mass(scene, r.name, entry["bound"],
+                                    float(entry.get("dilation") or 0.0))
+                entry = mat
             mats[r.name], fos[r.name] = (material_from_dict(entry) if isinstance(entry, dict)
                                          else (entry, entry))
         except (ValueError, TypeError, KeyError) as e:

@@ -68,7 +68,11 @@ CONTINUUM_MATERIALS = {
                      ("E", "nu", "cohesion", "friction")),
     "hoek_brown": (("E", "nu", "sci", "gsi", "mi", "D", "mb", "s", "a", "sigma3_max",
                     "dilation"), ("sci",)),
+    # from the region's own joints, flaws and blocks, at a stated bound ("joints" or
+    # "intact"): continuum_ref.rock_mass
+    "dem_rock_mass": (("bound", "dilation"), ("bound",)),
 }
+DEM_ROCK_MASS_BOUNDS = ("joints", "intact")     # continuum_ref.rock_mass.BOUNDS
 
 
 @dataclass(frozen=True)
@@ -93,8 +97,8 @@ class Scene:
     stages after one that leaves the model failed or undecided do not run,
     ``stages.run_stages``) or "continue". continuum : what the continuum needs to run the
     scene (``continuum_ref.scene_run``): {"h": mesh size (m), "materials": {region name or
-    pattern: {"kind": "elastic", "mohr_coulomb" or "hoek_brown", fields}}, "flow": "native" or
-    "davis"} (``check_continuum``, docs/scenes.md); None: DEM only.
+    pattern: {"kind": "elastic", "mohr_coulomb", "hoek_brown" or "dem_rock_mass", fields}},
+    "flow": "native" or "davis"} (``check_continuum``, docs/scenes.md); None: DEM only.
     """
 
     geometry: GeometrySpec
@@ -407,7 +411,11 @@ def check_continuum(section, regions) -> None:
         takes, needs = CONTINUUM_MATERIALS[m["kind"]]
         check_keys(m, ("kind",) + takes, f"{where} ({m['kind']})", required=needs)
         for k, v in m.items():
-            if k != "kind" and not (v is None or (_number(v) and math.isfinite(v))):
+            if k == "bound":
+                if v not in DEM_ROCK_MASS_BOUNDS:
+                    raise ValueError(f"{where}: bound must be one of {DEM_ROCK_MASS_BOUNDS}, "
+                                     f"got {v!r}")
+            elif k != "kind" and not (v is None or (_number(v) and math.isfinite(v))):
                 raise ValueError(f"{where}: {k} must be a number, got {v!r}")
         if m["kind"] == "hoek_brown" and not ({"gsi", "mi"} <= set(m)
                                               or {"mb", "s", "a", "E"} <= set(m)):
