@@ -49,26 +49,30 @@ G = 9.81                    # m/s^2
 NO_COHESION = 1.0           # Pa: the cohesion of a joint set that has none
 
 
-def dem_rock_mass(scene, region: str, bound: str, dilation: float = 0.0) -> MohrCoulomb:
+def dem_rock_mass(scene, region: str, bound: str, dilation: float = 0.0,
+                  materials=None) -> MohrCoulomb:
     """The Mohr-Coulomb rock mass of ``region`` (a name of ``scene.geometry.regions``) at
     ``bound`` (``BOUNDS``; module docstring): E, nu from ``rock_stiffness``; c, phi, T of the
-    weakest joint set or of the region's flaws; psi = ``dilation`` (degrees, at most phi)."""
+    weakest joint set or of the region's flaws; psi = ``dilation`` (degrees, at most phi).
+    ``materials``: the contact materials (name or pattern -> ``Material``) to derive it from,
+    default the scene's (a stage may have changed them)."""
     from dem_core.contact.materials import material_for
 
+    mats = scene.materials if materials is None else materials
     if bound not in BOUNDS:
         raise ValueError(f"bound must be one of {BOUNDS}, got {bound!r}")
     regions = {r.name: r for r in scene.geometry.regions}
     if region not in regions:
         raise ValueError(f"region {region!r} is not in the scene; regions are {sorted(regions)}")
-    E, nu = rock_stiffness(scene, region)
+    E, nu = rock_stiffness(scene, region, mats)
     if bound == "joints":
-        joint = weakest_joint_set(scene, region)
+        joint = weakest_joint_set(scene, region, mats)
         if joint is None:
             raise ValueError(f"region {region!r}: no joint set cuts it, so there is no joint "
                              f"bound; use bound \"intact\"")
-        mat = material_for(f"joint:{joint.name}", scene.materials)
+        mat = material_for(f"joint:{joint.name}", mats)
     else:
-        mat = material_for(f"flaw:{region}", scene.materials)
+        mat = material_for(f"flaw:{region}", mats)
     c = mat.cohesion if mat.cohesion > 0.0 else NO_COHESION
     phi = float(mat.friction)
     return MohrCoulomb(E=E, nu=nu, cohesion=c, friction=phi, dilation=min(dilation, phi),
@@ -80,31 +84,35 @@ def _sets_in(scene, region):
             if j.persistence > 0.0 and (not j.regions or region in j.regions)]
 
 
-def weakest_joint_set(scene, region):
+def weakest_joint_set(scene, region, materials=None):
     """The joint set of ``region`` with the least peak shear strength c + sigma tan(phi) at
-    sigma = density g H / 2 (H the scene's height, m), or None when no set cuts it."""
+    sigma = density g H / 2 (H the scene's height, m), or None when no set cuts it;
+    ``materials`` default the scene's."""
     from dem_core.contact.materials import material_for
 
     ys = [y for r in scene.geometry.regions for _, y in r.polygon().exterior.coords]
     sigma = scene.density * G * (max(ys) - min(ys)) / 2.0
 
+    mats = scene.materials if materials is None else materials
+
     def strength(j):
-        m = material_for(f"joint:{j.name}", scene.materials)
+        m = material_for(f"joint:{j.name}", mats)
         return m.cohesion + sigma * math.tan(math.radians(m.friction))
     sets = _sets_in(scene, region)
     return min(sets, key=strength) if sets else None
 
 
-def rock_stiffness(scene, region: str) -> tuple:
+def rock_stiffness(scene, region: str, materials=None) -> tuple:
     """(E_m, nu_m) in Pa, - of ``region``: the rock between the joints with every joint set's
-    compliance added (module docstring)."""
+    compliance added (module docstring); ``materials`` default the scene's."""
     from dem_core.contact.elastic import lattice_moduli, spacing_from_area
     from dem_core.contact.materials import material_for
 
+    mats = scene.materials if materials is None else materials
     compliance_n = compliance_s = 0.0           # 1/E, 1/G of the rock between the joints
     vor = scene.geometry.voronoi.get(region)
     if vor is not None:
-        flaw = material_for(f"flaw:{region}", scene.materials)
+        flaw = material_for(f"flaw:{region}", mats)
         d = spacing_from_area(1.5 * math.sqrt(3.0) * vor.edge_length ** 2)   # hexagons
         lat = lattice_moduli(flaw.kn, flaw.ks, d)
         compliance_n += 1.0 / lat["E"]
@@ -113,7 +121,7 @@ def rock_stiffness(scene, region: str) -> tuple:
         compliance_n += 1.0 / scene.block_E
         compliance_s += 2.0 * (1.0 + scene.block_nu) / scene.block_E
     for j in _sets_in(scene, region):
-        m = material_for(f"joint:{j.name}", scene.materials)
+        m = material_for(f"joint:{j.name}", mats)
         compliance_n += j.persistence / (m.kn * j.spacing)
         compliance_s += j.persistence / (m.ks * j.spacing)
     if compliance_n <= 0.0:

@@ -25,17 +25,25 @@ g-levels in multiples of 9.81 m/s^2.
   ``max(f_levels)`` (``ssr.factor_of_safety``; resolution ``refine_to`` or 0.0025; ``flow``
   "native" or "davis"); the stage's contact ``materials`` are not used. A Hoek-Brown region
   enters as its equivalent Mohr-Coulomb, which needs ``sigma3_max`` (Pa) in its entry.
+- "change_material" and "strength_schedule": a change of the DEM's contact material reaches
+  the regions whose continuum material is derived from the contact materials (kind
+  ``dem_rock_mass``, ``rock_mass.dem_rock_mass``): the material is derived again from the
+  changed ones, then the model equilibrated. A schedule lowers the property continuously from
+  its present value towards ``min(values)`` until no equilibrium (the load path of
+  ``ssr``: a limit with a mechanism, resolution ``refine_to`` or 1 % of the range); its
+  value is the last stable one, and the model is left there. A change that reaches no region
+  (every region has a material of its own, or the changed material is not one a region is
+  derived from) is refused before anything is meshed.
 
-Every other kind (cycle, prescribe_velocity, release, servo, load, displace,
-strength_schedule, change_material, cable, liner) is refused before anything is meshed, naming
-it (``check_continuum_stages``): they act on blocks, contacts or contact materials the
-continuum does not have.
+Every other kind (cycle, prescribe_velocity, release, servo, load, displace, cable, liner) is
+refused before anything is meshed, naming it (``check_continuum_stages``): they act on blocks
+or contacts the continuum does not have.
 """
 from __future__ import annotations
 
 import fnmatch
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -46,7 +54,9 @@ __all__ = ["run_scene", "build_continuum", "region_materials", "material_from_di
            "max_displacement"]
 
 CONTINUUM_STAGES = ("gravity", "raise_gravity", "insitu", "excavate", "water", "solve",
-                    "factor_of_safety")
+                    "factor_of_safety", "change_material", "strength_schedule")
+MATERIAL_STAGES = ("change_material", "strength_schedule")   # through dem_rock_mass regions
+SCHEDULE_TOL = 0.01        # of the schedule's range, without refine_to
 DEFAULT_G_TOL = 0.05       # g, resolution of a critical-g search without refine_to
 DEFAULT_F_TOL = 0.0025     # resolution of a factor of safety without refine_to
 STOPS = ("failed", "limit")
@@ -135,6 +145,39 @@ def region_materials(scene, spec) -> tuple:
     return mats, fos
 
 
+def derived_materials(scene, spec, contact_materials) -> dict:
+    """{region: material} of the regions whose ``spec`` entry is a ``dem_rock_mass``, derived
+    from ``contact_materials`` (name or pattern -> ``Material``)."""
+    from .rock_mass import dem_rock_mass
+
+    out = {}
+    for r in scene.geometry.regions:
+        key = r.name if r.name in spec else next(
+            (k for k in spec if fnmatch.fnmatchcase(r.name, k)), None)
+        entry = spec.get(key)
+        if isinstance(entry, dict) and entry.get("kind") == "dem_rock_mass":
+            out[r.name] = dem_rock_mass(scene, r.name, entry["bound"],
+                                        float(entry.get("dilation") or 0.0), contact_materials)
+    return out
+
+
+def changed_materials(scene, material, changes, contact_materials=None, spec=None) -> tuple:
+    """(contact materials after ``changes`` of ``material``, {region: derived material} of
+    the ``dem_rock_mass`` regions the change moves); ``contact_materials`` default the
+    scene's, ``spec`` (region -> continuum entry) the scene's continuum materials. ValueError
+    naming the material when it is not one of the contact materials."""
+    from dataclasses import replace
+
+    mats = dict(scene.materials if contact_materials is None else contact_materials)
+    if material not in mats:
+        raise ValueError(f"material {material!r} is not one of the scene's {sorted(mats)}")
+    spec = spec if spec is not None else (scene.continuum or {}).get("materials") or {}
+    before = derived_materials(scene, spec, mats)
+    mats[material] = replace(mats[material], **changes)
+    after = derived_materials(scene, spec, mats)
+    return mats, {r: m for r, m in after.items() if m != before[r]}
+
+
 # ---------------------------------------------------------------------- checks
 def _mesh_names(scene) -> set:
     """The names a mesh of the scene has cells for: regions, geometry groups, region groups."""
@@ -171,11 +214,13 @@ def check_boundaries(scene) -> None:
             side_sets(scene, b.group)
 
 
-def check_continuum_stages(scene, fos_materials=None) -> None:
+def check_continuum_stages(scene, fos_materials=None, spec=None) -> None:
     """ValueError, before anything is meshed, naming every stage the continuum cannot run
     (module docstring) or cannot run as given: gravity not straight down, an excavated group
     the mesh has no cells for, a factor of safety of a Hoek-Brown region without
-    sigma3_max (``fos_materials``: region -> strength-reduction material or None)."""
+    sigma3_max (``fos_materials``: region -> strength-reduction material or None), a
+    material change that reaches no region (``spec``: region -> continuum entry, default the
+    scene's continuum materials)."""
     from dem_core.workflow.stages import Excavate, FactorOfSafety, Gravity, stage_to_dict
 
     bad = [(i, stage_to_dict(st)["kind"]) for i, st in enumerate(scene.stages)
@@ -197,12 +242,30 @@ def check_continuum_stages(scene, fos_materials=None) -> None:
                 excavated_name(scene, st.group)
             except ValueError as e:
                 raise ValueError(f"{where}: {e}") from None
+        elif stage_to_dict(st)["kind"] in MATERIAL_STAGES:
+            _check_material_stage(scene, st, where, spec)
         elif isinstance(st, FactorOfSafety) and fos_materials is not None:
             missing = [r for r, m in fos_materials.items() if m is None]
             if missing:
                 raise ValueError(f"{where}: Hoek-Brown region(s) {missing} need sigma3_max "
                                  f"(Pa) in their continuum material for a strength reduction "
                                  f"(their equivalent Mohr-Coulomb)")
+
+
+def _check_material_stage(scene, st, where, spec) -> None:
+    """A change_material or strength_schedule stage must move a ``dem_rock_mass`` region."""
+    changes = (dict(st.changes) if hasattr(st, "changes")
+               else {st.property: min(float(v) for v in st.values)})
+    try:
+        _, moved = changed_materials(scene, st.material, changes, spec=spec)
+    except (ValueError, TypeError) as e:
+        raise ValueError(f"{where}: {e}") from None
+    if not moved:
+        raise ValueError(f"{where}: changing {st.material!r} reaches no continuum region: a "
+                         f"contact material's change reaches only the regions whose continuum "
+                         f"material is derived from the contact materials (kind "
+                         f"\"dem_rock_mass\"), and only through the materials they are "
+                         f"derived from")
 
 
 # ---------------------------------------------------------------------- running
@@ -246,9 +309,9 @@ def run_scene(scene, h=None, materials=None, flow=None, progress=None, on_stage=
                          f"region materials): give h and materials")
     mats, fos = region_materials(scene, spec)
     check_boundaries(scene)
-    check_continuum_stages(scene, fos)
+    check_continuum_stages(scene, fos, spec)
     model = build_continuum(scene, h, mats)
-    runner = _Runner(model, scene, [fos[r] for r in mats], flow)
+    runner = _Runner(model, scene, mats, fos, flow, spec)
     records = []
     for i, st in enumerate(scene.stages):
         rec = runner.run(i, st)
@@ -267,9 +330,23 @@ def run_scene(scene, h=None, materials=None, flow=None, progress=None, on_stage=
 class _Runner:
     """Runs one stage at a time on a ContinuumModel (``run_scene``)."""
 
-    def __init__(self, model, scene, fos_materials, flow):
-        self.model, self.scene, self.fos, self.flow = model, scene, fos_materials, flow
+    def __init__(self, model, scene, materials, fos_materials, flow, spec):
+        self.model, self.scene, self.flow, self.spec = model, scene, flow, spec
+        self.regions = list(materials)                 # the model's material order
+        self.mats, self.fos_by_region = dict(materials), dict(fos_materials)
+        self.contact_materials = dict(scene.materials)  # as the stages change them
         self.insitu_pending = False        # a field set at 0 g, equilibrated by gravity
+        self._trial = None                 # a schedule's contact materials at its last level
+
+    @property
+    def fos(self):
+        return [self.fos_by_region[r] for r in self.regions]
+
+    def _set_derived(self, derived):
+        """Give the model the regions' materials, those in ``derived`` replaced."""
+        self.mats.update(derived)
+        self.fos_by_region.update(derived)
+        self.model.set_materials([self.mats[r] for r in self.regions])
 
     def run(self, i, st):
         from dem_core.workflow.stages import stage_to_dict
@@ -360,6 +437,39 @@ class _Runner:
         limit = factor_of_safety(m, self.fos, f_max=f_max, f_start=1.0,
                                  tol=st.refine_to or DEFAULT_F_TOL,
                                  runaway=st.failure_displacement, flow=self.flow)
+        return self._limit(limit)
+
+    def _change_material(self, st):
+        self.contact_materials, moved = changed_materials(
+            self.scene, st.material, dict(st.changes), self.contact_materials, self.spec)
+        self._set_derived(moved)
+        verdict, value, failed, note, detail = self._solved(self.model.equilibrate())
+        return verdict, value, failed, note or f"regions {sorted(moved)} derived again", detail
+
+    def _strength_schedule(self, st):
+        from .ssr import _search, _verdict
+
+        now = float(getattr(self.contact_materials[st.material], st.property))
+        low = min(float(v) for v in st.values)
+        span = low - now                                # < 0: the schedule lowers it
+
+        def value(t):                                   # t in [0, 1] along the schedule
+            return now + t * span
+
+        def apply(t):
+            mats, moved = changed_materials(self.scene, st.material, {st.property: value(t)},
+                                            self.contact_materials, self.spec)
+            self._set_derived(moved)
+            self._trial = mats
+        tol = (st.refine_to or SCHEDULE_TOL * abs(span)) / abs(span)
+        first = max(tol, min(1.0, (now - float(st.values[0])) / abs(span)))
+        limit = _search(self.model, st.property, apply, 0.0, 1.0, first, tol,
+                        st.failure_displacement, 1.0, 10.0)
+        apply(limit.value)                              # the model's state: the last stable
+        self.contact_materials = self._trial
+        limit = replace(limit, value=value(limit.value), first_failed=None if (
+            limit.first_failed is None) else value(limit.first_failed))
+        limit.note = _verdict(limit, f"{st.material} {st.property}", 10.0)
         return self._limit(limit)
 
     @staticmethod

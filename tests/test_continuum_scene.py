@@ -206,3 +206,60 @@ def test_each_stage_can_be_drawn_at_its_end_without_the_excavated_cells():
     assert live0 == n0 == drawn0 and "excavated" not in t0 and t0.startswith("stage 0 (gravity)")
     assert n0 > live1 == drawn1 > live2 == drawn2 > 0
     assert f"{n0 - live2} excavated cells not drawn" in t2 and "stage 2 (excavate)" in t2
+
+
+def _tresca_scene(stages):
+    """The cut with a joint set whose (frictionless) strength the continuum's rock mass takes
+    (``dem_rock_mass``, bound "joints"): a Tresca rock mass of c = 60 kPa."""
+    from dem_core.geometry import JointSet
+
+    base = cut_scene([])
+    geo = GeometrySpec(base.geometry.regions, joint_sets=[JointSet("bed", 20.0, 4.0)],
+                       groups=base.geometry.groups)
+    mats = {"joint:bed": Material(kn=1e9, ks=1e9, cohesion=60e3, friction=0.0),
+            "*": Material(kn=1e9, ks=1e9, friction=35.0)}
+    return Scene(geo, mats, density=2000.0, groups=base.groups, boundaries=base.boundaries,
+                 points=base.points, stages=stages, name="tresca-cut",
+                 continuum={"h": 2.5, "materials": {"rock": {"kind": "dem_rock_mass",
+                                                             "bound": "joints"}}})
+
+
+def test_a_strength_schedule_finds_the_cohesion_whose_ratio_is_the_factor_of_safety():
+    """Tresca: strength reduction divides c alone, so F = c / c_critical, where c_critical
+    is the cohesion a schedule lowering c finds the limit at."""
+    from continuum_ref.scene_run import run_scene
+    from dem_core.workflow.strength import StrengthSchedule
+
+    cut = [Gravity(1.0), Excavate("lift1"), Excavate("lift2")]
+    schedule = run_scene(_tresca_scene(cut + [StrengthSchedule(
+        "joint:bed", "cohesion", (50e3, 40e3, 30e3, 20e3, 10e3), refine_to=100.0)]))[-1]
+    fos = run_scene(_tresca_scene(cut + [FactorOfSafety(("*",), f_levels=(1.0, 2.0, 4.0),
+                                                        refine_to=0.0025)]))[-1]
+    assert schedule.verdict == fos.verdict == "limit"
+    assert 10e3 < schedule.first_failed < schedule.value < 50e3        # lowered: failed below
+    assert "limit at joint:bed cohesion" in schedule.note
+    assert fos.value == pytest.approx(60e3 / schedule.value, rel=0.02)
+
+
+def test_a_material_change_derives_the_rock_mass_again_and_one_that_reaches_none_is_refused():
+    from continuum_ref import scene_run
+    from continuum_ref.rock_mass import dem_rock_mass
+    from dem_core.workflow.stages import ChangeMaterial
+
+    scene = _tresca_scene([Gravity(1.0), ChangeMaterial("joint:bed", {"cohesion": 80e3})])
+    seen = []
+    records = scene_run.run_scene(scene, on_stage=lambda m, r: seen.append(m.materials[0]))
+    assert [r.verdict for r in records] == ["equilibrium", "equilibrium"]
+    stronger = dict(scene.materials, **{"joint:bed": Material(kn=1e9, ks=1e9, cohesion=80e3,
+                                                              friction=0.0)})
+    assert seen == [dem_rock_mass(scene, "rock", "joints"),
+                    dem_rock_mass(scene, "rock", "joints", materials=stronger)]
+    assert seen[1].cohesion == 80e3
+    for stage in (ChangeMaterial("*", {"friction": 30.0}),        # not what the rock is from
+                  ChangeMaterial("joint:bed", {"kn": 1e9})):        # no change at all
+        with pytest.raises(ValueError, match=r"stage 1 \(change_material\).*reaches no "
+                                             r"continuum region"):
+            scene_run.run_scene(_tresca_scene([Gravity(1.0), stage]))
+    plain = cut_scene([Gravity(1.0), ChangeMaterial("*", {"friction": 30.0})])
+    with pytest.raises(ValueError, match="dem_rock_mass"):
+        scene_run.run_scene(plain)
