@@ -59,7 +59,7 @@ CASES = {
 
 def member(edge: float, seed: int = 1, tensile_mpa: float | None = None,
            edge_elements: bool = False, case: str = "adhikary", zone: float = 0.0,
-           fracture_energy: float = 0.0) -> dict:
+           fracture_energy: float = 0.0, softening_regions: str = "*") -> dict:
     """The sweep member of one block size (the case's base run at another edge, seed or T;
     ``fracture_energy`` G_I of softening flaws, J/m^2, with G_II = ``MODE_II_RATIO`` G_I)."""
     spec = CASES[case]
@@ -69,6 +69,8 @@ def member(edge: float, seed: int = 1, tensile_mpa: float | None = None,
     soft = ({"flaw_fracture_energy_I": fracture_energy,
              "flaw_fracture_energy_II": MODE_II_RATIO * fracture_energy}
             if fracture_energy else {})
+    if fracture_energy and softening_regions != "*":      # (longtan: "zone*")
+        soft["flaw_softening_regions"] = softening_regions
     return dict(label=f"{case} edge {edge} seed {seed} T {t} G {fracture_energy}", case=case,
                 solver=dict(edge_elements=edge_elements,
                             **({"deformable": {"*": zone}} if zone > 0 else {})),
@@ -90,6 +92,7 @@ def row(m: dict, r: dict) -> dict:
             "flaw_tensile_mpa": m["params"]["flaw_tensile_strength"] / 1e6,
             "edge_elements": m["solver"]["edge_elements"],
             "fracture_energy_I": m["params"].get("flaw_fracture_energy_I", 0.0),
+            "softening_regions": m["params"].get("flaw_softening_regions", "*"),
             "zone_m": m["solver"].get("deformable", {}).get("*", 0.0),
             "blocks": r["blocks"],
             "contacts": r["contacts"], "g_step": m["g_levels"][1] - m["g_levels"][0],
@@ -121,6 +124,9 @@ def main(argv=None):
                     help="every block deformable, zones of H m (Model(deformable={'*': H}))")
     ap.add_argument("--fracture-energy", type=float, nargs="+", default=[0.0], metavar="G_I",
                     help="softening flaws with G_I (J/m^2) and G_II = 10 G_I; 0: brittle")
+    ap.add_argument("--softening-regions", default="*", metavar="PATTERN",
+                    help="longtan: the regions whose flaws soften (\"zone*\": the Voronoi "
+                         "zone; the others' flaws stay brittle)")
     ap.add_argument("--name", default="centrifuge_resolution",
                     help="file name of the results (without .json / .png)")
     ap.add_argument("--summary", nargs="+", metavar="NAME",
@@ -135,7 +141,8 @@ def main(argv=None):
                 for r in json.loads(outdir.find(f"{n}.json").read_text())["rows"]]
         summary_figure(rows, out / f"{a.name}.png")
         return
-    members = [member(edge, seed, t, a.edge_elements, a.case, a.deformable, g)
+    members = [member(edge, seed, t, a.edge_elements, a.case, a.deformable, g,
+                      a.softening_regions)
                for edge in a.edges for seed in a.seeds for t in a.tensile
                for g in a.fracture_energy]
     rows = [row(m, r) for m, r in zip(members, run_sweep(run_member, members, a.workers))]

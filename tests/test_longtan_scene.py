@@ -101,3 +101,22 @@ def test_conventional_counterpart_smears_the_bridges_over_persistent_bases():
 def test_monitoring_points_are_inside_the_rock():
     rock = Polygon(scene.profile())
     assert all(rock.contains(Point(*xy)) for xy in scene.monitoring_points().values())
+
+
+def test_softening_can_be_kept_to_the_voronoi_zone(blocks):
+    """flaw_softening_regions="zone*": the zone's flaws soften, every other bond (the bridges
+    of the joint-bounded rock, the region boundaries) keeps the brittle law."""
+    from dem_core.contact.materials import material_for
+
+    soft = FINE.with_(flaw_fracture_energy_I=300.0, flaw_fracture_energy_II=3000.0,
+                      flaw_softening_regions="zone*")
+    mats = scene.materials(soft)
+    names = [n for n in blocks.material_names if n.startswith(("flaw:", "boundary:"))]
+    zone = [n for n in names if n.startswith("flaw:zone")]
+    assert zone and len(zone) < len(names)
+    for n in names:
+        m = material_for(n, mats)
+        assert (m.fracture_energy_I, m.fracture_energy_II) == (
+            (300.0, 3000.0) if n in zone else (0.0, 0.0)), n
+    everywhere = scene.materials(soft.with_(flaw_softening_regions="*"))
+    assert all(material_for(n, everywhere).fracture_energy_I == 300.0 for n in names)

@@ -107,6 +107,10 @@ class LongtanParams:
     # fracture energies of the flaws, J/m^2 (0: brittle, the thesis's law; Material)
     flaw_fracture_energy_I: float = 0.0
     flaw_fracture_energy_II: float = 0.0
+    # the regions whose flaws soften (an fnmatch pattern; "zone*": the Voronoi zone only, the
+    # bridges of the joint-bounded rock behind it stay brittle: their blocks, about 0.1 m, are
+    # set by the joints, not refined with edge_length, and too large for a softening length)
+    flaw_softening_regions: str = "*"
     side_friction: float = 37.0
     base_friction: float = 0.0
     block_E: float = 2.0e9
@@ -242,6 +246,11 @@ def materials(p: LongtanParams) -> dict:
                     friction=p.side_friction)
     smeared = dict(cross=1.0 - p.persistence, cross_toe=1.0 - p.persistence_toe)
     out = {"flaw:*": flaw, "joint:columns": side, "boundary:*": flaw}
+    if p.flaw_softening_regions != "*" and (p.flaw_fracture_energy_I or
+                                            p.flaw_fracture_energy_II):
+        brittle = replace(flaw, fracture_energy_I=0.0, fracture_energy_II=0.0)
+        out.update({"flaw:*": brittle, "boundary:*": brittle,
+                    f"flaw:{p.flaw_softening_regions}": flaw})
     for name in regions_material_names(p):     # the toe column's sides are continuous joints
         a, b = name.split(":", 1)[1].split("|")
         if is_toe(a) != is_toe(b):
