@@ -119,4 +119,6 @@ def test_softening_can_be_kept_to_the_voronoi_zone(blocks):
         assert (m.fracture_energy_I, m.fracture_energy_II) == (
             (300.0, 3000.0) if n in zone else (0.0, 0.0)), n
     everywhere = scene.materials(soft.with_(flaw_softening_regions="*"))
-    assert all(material_for(n, everywhere).fracture_energy_I == 300.0 for n in names)
+    bonds = [n for n in names if material_for(n, everywhere).tensile_strength > 0]  # (not the
+    assert len(bonds) > len(zone)                                 # toe column's side joints)
+    assert all(material_for(n, everywhere).fracture_energy_I == 300.0 for n in bonds)
