@@ -205,7 +205,13 @@ def _errors(result, by_label):
 
 
 def _curves_and_figures(result, runs, base_run):
+    """The curves (each run's displacement of A and B against g, its cracks; failure g against
+    T) and figures: displacement against g, failure g against T, the base run's cracks at
+    failure, and each run's g search (``centrifuge.search_plot``) and, but the base run's, its
+    end state (``centrifuge.cracks_figure``)."""
     import matplotlib.pyplot as plt
+
+    from comparisons.scene_figures import search_state
 
     for r in runs:
         name = r["label"].replace("=", "").replace(" ", "_")
@@ -218,8 +224,11 @@ def _curves_and_figures(result, runs, base_run):
     result.curves["failure_g_vs_tensile"] = Curve(
         ["tensile_strength_mpa", "failure_g"],
         np.array([[t, np.nan if g is None else g] for t, g in ft]))
-    result.figures["displacement_vs_g"] = centrifuge.displacement_figure(
-        runs, result.methods.get("continuum"))
+    fig = centrifuge.displacement_figure(runs, result.methods.get("continuum"))
+    fig.axes[0].set_title("horizontal displacement of A (crest) and B (mid-face) at the end of "
+                          "each g-level run, per run\n(each level's verdict: "
+                          "g_search_<run>.png)", fontsize=9)
+    result.figures["displacement_vs_g"] = fig
 
     fig, ax = plt.subplots(figsize=(5, 4))
     ax.plot([t for t, _ in ft], [np.nan if g is None else g for _, g in ft], "o-",
@@ -228,6 +237,9 @@ def _curves_and_figures(result, runs, base_run):
     ax.axhspan(80, 85, color="0.85", label="experiment")
     ax.set_xlabel("flaw tensile strength (MPa)")
     ax.set_ylabel("failure g-level")
+    step = result.methods["dem"]["g_resolution"]
+    ax.set_title(f"failure g (the first failed level, resolution {step:g} g)\nagainst the "
+                 f"flaws' tensile strength", fontsize=9)
     ax.legend(fontsize=7)
     result.figures["failure_g_vs_tensile"] = fig
 
@@ -235,3 +247,10 @@ def _curves_and_figures(result, runs, base_run):
     result.figures["cracks_at_failure"] = centrifuge.cracks_figure(
         scene, base_run, line, f"damage model, {base_run['label']} MPa: flaw cracks at "
         f"failure g = {base_run['failure_g']}")
+    for r in [base_run] + [r for r in runs if r is not base_run]:     # each run's g search
+        name = centrifuge.file_name(r["label"])
+        result.figures[f"g_search_{name}"] = centrifuge.search_plot(r)
+        if r is not base_run:
+            result.figures[f"end_state_{name}"] = centrifuge.cracks_figure(
+                scene, r, None, f"{r['label']}: {centrifuge.ramp_words(r)}; "
+                f"{search_state(centrifuge.ramp_record(r))}")

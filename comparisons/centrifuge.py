@@ -1,6 +1,6 @@
 """What the centrifuge slope cases share: one g-ramp run of a scene as a sweep member, the
 rupture surface from its crack log, and the figures (the failed slope's blocks and cracks,
-displacement vs g, the continuum's yield).
+displacement vs g, a run's g search with each level's verdict, the continuum's yield).
 
 A scene module passed here provides ``scene(params, stages)`` (the ``dem_core.workflow.scene.Scene`` both
 methods build from: geometry, materials, boundaries, points "A" and "B", solver), ``profile()``
@@ -264,6 +264,36 @@ def displacement_figure(runs: list, continuum: dict | None = None):
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.tight_layout()
     return fig
+
+
+def ramp_record(run: dict) -> RampRecord:
+    """A ``ramp_run`` result's levels as the ``RampRecord`` it came from (g, verdicts, ux of A
+    and B; no largest displacement per level: a run does not keep it)."""
+    return RampRecord(level=list(run["g"]), verdict=list(run["verdict"]),
+                      steps=list(run.get("level_steps", [])),
+                      point_ux={p: list(run[f"ux_{p}"]) for p in ("A", "B")},
+                      failure_level=run["failure_g"], last_stable_level=run["last_stable_g"],
+                      refined=int(run.get("refined_levels") or 0), unstable=run.get("unstable"))
+
+
+def ramp_words(run: dict) -> str:
+    """A ramp's verdict in words: where it failed and the last g that stood, or that it stood."""
+    stood = run["last_stable_g"]
+    if run["failure_g"] is not None:
+        return (f"fails at {run['failure_g']:g} g (last stable "
+                f"{'none' if stood is None else f'{stood:g} g'})")
+    if run.get("unstable"):
+        return f"numerically unstable at {run['g'][-1]:g} g, no failure g"
+    return f"no failure: stands at {run['g'][-1]:g} g, the last level" if run["g"] else "no level"
+
+
+def search_plot(run: dict):
+    """A run's g search (``comparisons.scene_figures.search_figure``): the horizontal
+    displacement of A and B at the end of each level against g, each level's marker by its
+    verdict, the last stable and first failed g marked."""
+    from comparisons.scene_figures import search_figure
+
+    return search_figure(ramp_record(run), f"g search, {run['label']}: {ramp_words(run)}")
 
 
 def cracks_figure(scene, run: dict, rupture_line=None, title: str = "", reference_line=None):

@@ -16,12 +16,26 @@ then holds, like a case's folder:
   stages before it are kept) and ``versions``;
 - ``stages.csv`` (the stage table: kind, verdict, steps, times, crack counts, each point's ux
   and uy in m) and, for a stage with a curve (``load``), ``stage<i>_<kind>.csv``;
-- ``blocks.png``: the final state (``dem_core.output.plot.plot_model``: blocks moved by their
-  displacement times the magnification in the title, coloured by the true displacement, joints,
-  the cracks through intact rock (flaws, region boundaries) as the broken edges by mode,
-  support; the monitoring points);
-- ``report.md``: the results, the stage table (``stage_table``, mm), the picture;
-- ``<scene name>.vtu`` with ``--vtk``: the final state for ParaView (``Model.write_vtk``).
+- ``stage<i>_<kind>.png``, drawn as each stage ends (``stage_outputs``,
+  ``comparisons.scene_figures.stage_figure``): the model at that stage's end, blocks moved by
+  their displacement times the magnification in the title, coloured by the true displacement
+  (mm), joints, the cracks through intact rock (flaws, region boundaries) as the broken edges
+  by mode, support, the water table the model has, the monitoring points; the title names the
+  stage, its verdict, for a search which state is drawn (the first failed level's, or the last
+  level's), and the crack counts of ``stages.csv`` with those drawn;
+- ``stage<i>_search.png`` for a search stage (``search_figure``): each level (F, g or the
+  strength) against the largest displacement in it and each monitoring point's displacement,
+  markers by verdict, the last stable and first failed levels marked;
+- ``history.png`` (``history_figure``): each monitoring point's displacement against the steps
+  (the model's history) with the stage ends marked;
+- ``blocks.png``: the final state, drawn as a stage's picture;
+- ``report.md``: the results, the stage table (``stage_table``, mm), the history, each stage's
+  pictures under its verdict (only the pictures there are: a stage kept by an earlier run that
+  drew none has none), the final state;
+- with ``--vtk``: ``<scene name>.vtu``, the final state for ParaView (``Model.write_vtk``);
+  ``vtk/<scene name>.pvd``, the state at each stage's end (time: the stage's index), and
+  ``vtk/stage<i>_search.pvd``, each level of a search stage in the order run (field data: the
+  level); each file's field data names the integer codes (``dem_core.output.vtk``).
 
 The run ends with one line per stage giving its verdict with its number (``verdict_lines``: a
 factor of safety ``factor of safety 1.30 (1.35 fails)``, a strength schedule's last stable and
@@ -77,7 +91,8 @@ from comparisons.store import check_folder
 __all__ = ["prepare", "run_scene", "run_prepared", "build_checked", "scene_folder",
            "RESULT_KEYS", "apply_settings", "scene_source", "load_stages", "STAGES_CHECKPOINT",
            "check_scene", "check_figure", "verdict_line", "verdict_lines", "CHECK_PICTURE",
-           "METHODS", "check_continuum", "run_continuum", "continuum_line", "methods_table"]
+           "METHODS", "check_continuum", "run_continuum", "continuum_line", "methods_table",
+           "stage_outputs", "VTK_FOLDER"]
 
 CHECK_PICTURE = "check.png"                 # <out>/<scene name>/<this>, written by --check
 
@@ -87,7 +102,6 @@ STAGES_CHECKPOINT = "checkpoint-stages"     # <members>/<this>.npz and .json
 RESULT_KEYS = ("failure_g", "last_stable_g", "factor_of_safety", "first_failed",
                "last_stable_value", "failure_value", "peak", "displacement_at_peak")
 _SEARCH_KEYS = ("ramp", "search")           # a stage's LimitRecord in its detail
-INTACT = ("flaw:", "boundary:")             # bonds through intact rock (not joints)
 
 
 def scene_folder(scene, out) -> Path:
@@ -223,7 +237,7 @@ def check_figure(scene, model):
     from dem_core.geometry.plot import plot_block_system
     from dem_core.workflow.scene import group_sides
     from dem_core.workflow.stages import Cable, Excavate, WaterTable, stage_to_dict
-    from dem_core.workflow.water import surface_height
+    from comparisons.scene_figures import draw_water_table
 
     bs = model.blocks
     fig, ax = plt.subplots(figsize=(9, 7))
@@ -270,8 +284,7 @@ def check_figure(scene, model):
                                              edgecolors="magenta", linestyles="--",
                                              linewidths=1.6))
         elif isinstance(st, WaterTable) and st.surface is not None:
-            line, = ax.plot(xs, surface_height(st.surface, xs), "-", color="tab:blue", lw=1.8,
-                            label=f"water table (stage {i})")
+            line = draw_water_table(ax, st.surface, xs, label=f"water table (stage {i})")
             handles.append(line)
         elif isinstance(st, Cable):
             (ca, cb), (ea, eb) = st.collar, st.end
@@ -466,9 +479,13 @@ def run_prepared(scene, folder, path, vtk=False, progress=None, kept=None):
         f"{len(scene.stages)} stages" + (f", {len(records)} kept from an earlier run (not run "
                                          f"again)" if records else ""))
     stage_start = [time.perf_counter()]
+    series = _stage_series(folder, len(records)) if vtk else None
+    levels = {}                                     # stage -> VtkSeries of its search levels
 
     def level_done(i, stage, m, rec):
         say(level_line(i, stage, rec, time.perf_counter() - stage_start[0]))
+        if vtk:
+            _add_level(folder, levels, i, m, rec)
 
     error = None
     try:
@@ -482,6 +499,7 @@ def run_prepared(scene, folder, path, vtk=False, progress=None, kept=None):
             say(f"{verdict_line(rec)}, {rec.seconds:.1f} s")      # a search's F or g, not "failed"
             if keep is not None:
                 _save_stages(keep, model, records)
+            stage_outputs(folder, scene, model, rec, series)
             if stop_after(rec, scene.stages, model, before, scene.after_failure):
                 say(rec.detail["stopped"])
                 break
@@ -505,8 +523,56 @@ def level_line(i, stage, rec, elapsed) -> str:
                                         f"left ~{duration(left)}"))
 
 
+VTK_FOLDER = "vtk"                  # <out>/<scene name>/<this>: the series of --vtk
+
+
+def stage_outputs(folder: Path, scene, model, rec, series=None) -> list:
+    """What a stage leaves, written while the model is at its end: ``stage<i>_<kind>.png``
+    (``scene_figures.stage_figure``), a search's ``stage<i>_search.png``
+    (``search_figure``) and, with ``series`` (a ``VtkSeries``), the state as its next member
+    (time: the stage's index). Returns the pictures' names."""
+    import matplotlib.pyplot as plt
+
+    from comparisons.scene_figures import (search_figure, search_picture, search_record,
+                                           stage_figure, stage_picture)
+
+    words = verdict_line(rec).split(": ", 1)[-1]
+    figures = {stage_picture(rec): stage_figure(scene, model, rec, words)}
+    lr = search_record(rec)
+    if lr is not None:
+        fd = getattr(scene.stages[rec.index], "failure_displacement", None)
+        figures[search_picture(rec)] = search_figure(lr, f"{scene.name}: stage {rec.index} "
+                                                         f"({rec.kind}): {words}", fd)
+    for name, fig in figures.items():
+        fig.savefig(folder / name, dpi=110, bbox_inches="tight")
+        plt.close(fig)
+    if series is not None:
+        series.add(model, time=rec.index, field_data={"stage": rec.index})
+    return list(figures)
+
+
+def _stage_series(folder, kept):
+    """The VtkSeries of the stage ends, ``<folder>/vtk/<scene name>.pvd``, going on after the
+    ``kept`` stages an earlier run wrote (a new run starts it afresh)."""
+    from dem_core.output.vtk import VtkSeries
+
+    return VtkSeries.reopen(Path(folder) / VTK_FOLDER, Path(folder).name, until=kept - 1)
+
+
+def _add_level(folder, levels, i, model, rec):
+    """Add the state after the last level of search stage ``i`` (``rec``: its LimitRecord so
+    far) to ``<folder>/vtk/stage<i>_search.pvd`` (time: the level's place in the order run;
+    field data: the level, under the parameter's name)."""
+    from dem_core.output.vtk import VtkSeries
+
+    if i not in levels:
+        levels[i] = VtkSeries(Path(folder) / VTK_FOLDER, f"stage{i}_search")
+    levels[i].add(model, time=len(rec.level) - 1, field_data={rec.parameter: rec.level[-1]})
+
+
 def write_outputs(folder: Path, scene, path, model, records, error, runtime_s, vtk) -> None:
-    """summary.json, stages.csv, the curves, blocks.png, report.md (and the .vtu)."""
+    """summary.json, stages.csv, the curves, blocks.png, history.png, report.md (and the
+    .vtu); the stages' pictures (``stage_outputs``) were written as each stage ended."""
     stages = [_stage_summary(r) for r in records]
     curves = {}
     for r in records:
@@ -523,14 +589,21 @@ def write_outputs(folder: Path, scene, path, model, records, error, runtime_s, v
                "versions": software_versions(), "written": time.strftime("%Y-%m-%d %H:%M:%S")}
     (folder / "summary.json").write_text(json.dumps(_jsonable(summary), indent=2))
     _write_stage_csv(folder / "stages.csv", records, list(model.points))
-    fig = block_figure(scene, model, records)
-    fig.savefig(folder / "blocks.png", dpi=110, bbox_inches="tight")
     import matplotlib.pyplot as plt
-    plt.close(fig)
+
+    from comparisons.scene_figures import HISTORY_PICTURE, history_figure
+
+    for name, fig in (("blocks.png", block_figure(scene, model, records)),
+                      (HISTORY_PICTURE, history_figure(records, list(model.points),
+                                                       model.history.as_arrays(),
+                                                       scene.name))):
+        fig.savefig(folder / name, dpi=110, bbox_inches="tight")
+        plt.close(fig)
     if vtk:
         model.write_vtk(folder / f"{folder.name}.vtu")
     (folder / "report.md").write_text(_report(summary, records, curves, vtk, folder.name,
-                                              verdict_lines(records, error, scene.stages)))
+                                              verdict_lines(records, error, scene.stages),
+                                              folder))
 
 
 def _stage_summary(r) -> dict:
@@ -571,41 +644,32 @@ def _write_stage_csv(path, records, points) -> None:
 
 
 def block_figure(scene, model, records):
-    """The final state: blocks moved by their displacement x the magnification in the title,
-    coloured by the true displacement (m), joints, the cracks through intact rock (``INTACT``
-    materials: flaws and region boundaries; a joint's breaks would hide the picture) as broken
-    edges (red tension, blue shear), support (``dem_core.output.plot.plot_model``), the monitoring
-    points (moved the same way)."""
-    import matplotlib.pyplot as plt
+    """The final state (``scene_figures.state_figure``): blocks moved by their displacement x
+    the magnification in the title, coloured by the true displacement (mm), joints, the cracks
+    through intact rock (flaws and region boundaries, ``comparisons.staged.INTACT``; a joint's
+    breaks would hide the picture, they are counted in the title) as broken edges (red
+    tension, blue shear), support, the water table, the monitoring points (moved the same
+    way)."""
+    from comparisons.scene_figures import search_record, search_state, state_figure
 
-    from dem_core.output.plot import block_picture, magnification, plot_model
-
-    fig, ax = plt.subplots(figsize=(8, 6))
-    k = magnification(block_picture(model, cracks=(), joints=()))
-    plot_model(model, ax, displacement_scale=k, crack_lines=True, joints="joint:",
-               crack_materials=INTACT)
-    for name in model.points:                       # where they are, as drawn
-        x0, y0 = model.points[name][2]
-        ux, uy = model.point_motion(name)[:2]
-        ax.plot(x0 + k * ux, y0 + k * uy, "k^")
-        ax.annotate(name, (x0 + k * ux, y0 + k * uy), xytext=(4, 4), textcoords="offset points")
-    last = (f"after stage {records[-1].index} ({records[-1].kind}: {records[-1].verdict})"
-            if records else "before any stage")
-    log = model.crack_log()
-    intact = np.array([str(m).startswith(INTACT) for m in log["material"]], bool)
-    tension, shear = (int(np.sum(intact & (log["mode"] == mode))) for mode in (1, 2))
-    ax.set_title(f"{scene.name}: {last}\ndisplacement magnified x {k:g} (colour: true "
-                 f"displacement)\ncracks through intact rock: {tension} tension (red), {shear} "
-                 f"shear (blue); joints black ({int(np.sum(~intact))} joint breaks not drawn)",
-                 fontsize=9)
-    if ax.get_legend_handles_labels()[0]:
-        ax.legend(fontsize=7, loc="lower left")
-    return fig
+    last = records[-1] if records else None
+    head = (f"{scene.name}: final state, after stage {last.index} ({last.kind}: "
+            f"{verdict_line(last).split(': ', 1)[-1]})" if last else
+            f"{scene.name}: before any stage")
+    lr = search_record(last) if last else None
+    return state_figure(scene, model, head, [search_state(lr)] if lr is not None else [],
+                        last.cracks if last else None)
 
 
-def _report(summary, records, curves, vtk, name, verdicts=()) -> str:
+def _report(summary, records, curves, vtk, name, verdicts=(), folder=None) -> str:
+    """report.md: the verdicts, the scene, the results, the stage table, the history and each
+    stage's pictures (``_stage_pictures``: only the files in ``folder``), the final state,
+    the data files."""
     from dem_core.workflow.stages import stage_table
 
+    from comparisons.scene_figures import HISTORY_PICTURE
+
+    folder = Path(folder) if folder is not None else None
     lines = [f"# {summary['scene']} (scene file, DEM)", "", "## Verdicts", ""]
     lines += [f"- {v}" for v in verdicts] or ["(no stage ran)"]
     lines += ["", "## Scene", "", f"File: `{summary['file']}`"]
@@ -621,14 +685,47 @@ def _report(summary, records, curves, vtk, name, verdicts=()) -> str:
     lines += ["", "## Stages", "", "Monitoring points' displacement at the end of each stage "
               "(`stages.csv` has them in m, with times and crack counts):", ""]
     lines += [stage_table(records)] if records else ["(no stage ran)"]
+    if folder is not None and (folder / HISTORY_PICTURE).exists():
+        lines += ["", f"![monitoring points' history]({HISTORY_PICTURE})"]
+    for r in records:
+        lines += ["", f"### {verdict_line(r)}", ""] + _stage_pictures(r, folder)
     lines += ["", "## Final state", "", "![blocks](blocks.png)"]
     if curves or vtk:
         lines += ["", "## Data", ""]
         lines += [f"- `{c}`: stage {i}'s curve" for i, c in curves.items()]
         if vtk:
-            lines += [f"- `{name}.vtu`: the final state for ParaView (docs/output.md)"]
+            lines += _vtk_lines(records, name, folder)
     lines += ["", "## Software", ""] + [f"- {k}: {v}" for k, v in summary["versions"].items()]
     return "\n".join(lines) + "\n"
+
+
+def _stage_pictures(r, folder) -> list:
+    """The report's lines for stage ``r``'s pictures: the state at its end and a search's
+    plot, each only if its file is in ``folder`` (a stage kept from an earlier run that drew
+    none has none: it says so)."""
+    from comparisons.scene_figures import search_picture, search_record, stage_picture
+
+    names = [stage_picture(r)] + ([search_picture(r)] if search_record(r) is not None else [])
+    have = [n for n in names if folder is not None and (folder / n).exists()]
+    if not have:
+        return ["(no picture: the stage was kept from an earlier run that drew none)"]
+    return [f"![stage {r.index} {'search' if n.endswith('_search.png') else r.kind}]({n})"
+            for n in have]
+
+
+def _vtk_lines(records, name, folder) -> list:
+    """The report's lines for the ParaView files of ``--vtk`` that are in ``folder``."""
+    lines = [f"- `{name}.vtu`: the final state for ParaView (docs/output.md)"]
+    vtk = Path(folder or ".") / VTK_FOLDER
+    if (vtk / f"{name}.pvd").exists():
+        lines.append(f"- `{VTK_FOLDER}/{name}.pvd`: the state at each stage's end (time: the "
+                     f"stage's index; `{name}_legend.json` and each file's field data name "
+                     f"the integer codes)")
+    for r in records:
+        if (vtk / f"stage{r.index}_search.pvd").exists():
+            lines.append(f"- `{VTK_FOLDER}/stage{r.index}_search.pvd`: stage {r.index}'s "
+                         f"levels in the order run (field data: the level)")
+    return lines
 
 
 def _held_stretch(polygons, side, line):

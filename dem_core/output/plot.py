@@ -21,7 +21,8 @@ JOINT, TENSION, SHEAR = 0, 1, 2          # segment kinds of a picture (crack mod
 
 
 def plot_model(model, ax=None, displacement_scale=1.0, cracks=True, support=True,
-               crack_lines=False, joints=None, rupture=None, crack_materials=None):
+               crack_lines=False, joints=None, rupture=None, crack_materials=None, unit="m",
+               colour_limit=None):
     """Draw the active blocks (displacements magnified by ``displacement_scale``, coloured by
     the true displacement), the cracks (tension red, shear blue) and the support (cables and
     liners coloured by their axial force, broken parts dashed) on ``ax``; returns the axes.
@@ -32,6 +33,7 @@ def plot_model(model, ax=None, displacement_scale=1.0, cracks=True, support=True
     drawn as thin dark lines. ``rupture``: (n, 2) polyline, m, drawn thick black.
     ``crack_materials``: with ``crack_lines``, draw only the broken bonds of materials whose
     names start with these prefixes (e.g. ("flaw:", "boundary:"): the intact rock's); None: all.
+    ``unit``, ``colour_limit``: of the displacement colours, as ``draw_picture``'s.
     """
     import matplotlib.pyplot as plt
 
@@ -39,7 +41,8 @@ def plot_model(model, ax=None, displacement_scale=1.0, cracks=True, support=True
         _, ax = plt.subplots(figsize=(7, 6))
     pic = block_picture(model, cracks=crack_materials if (cracks and crack_lines) else (),
                         joints=() if joints is None else joints)
-    draw_picture(pic, ax, displacement_scale, rupture=rupture)
+    draw_picture(pic, ax, displacement_scale, rupture=rupture, unit=unit,
+                 colour_limit=colour_limit)
     s = model.state
     pos = s.pos0 + displacement_scale * (s.pos - s.pos0)
     theta = s.theta0 + displacement_scale * (s.theta - s.theta0)

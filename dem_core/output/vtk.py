@@ -40,7 +40,9 @@ Point field ``vertex_displacement`` (m, 3 components): the rigid-body displaceme
 move from where they were installed), so ParaView's
 "Warp By Vector" with scale factor k - 1 shows the displacement magnified k times.
 
-``legend(model)`` gives the names behind the integer codes (``VtkSeries`` writes it as JSON).
+``legend(model)`` gives the names behind the integer codes (``VtkSeries`` writes it as JSON);
+every file carries them as field data too (``legend_field_data``: an array "region 2: lift1"
+holding 2, ...).
 """
 from __future__ import annotations
 
@@ -51,8 +53,8 @@ from xml.sax.saxutils import quoteattr
 import meshio
 import numpy as np
 
-__all__ = ["write_vtk", "vtk_mesh", "VtkSeries", "legend", "block_groups", "KIND_BLOCK",
-           "KIND_CONTACT", "KIND_CRACK", "KIND_SUPPORT"]
+__all__ = ["write_vtk", "vtk_mesh", "VtkSeries", "legend", "legend_field_data", "block_groups",
+           "KIND_BLOCK", "KIND_CONTACT", "KIND_CRACK", "KIND_SUPPORT"]
 
 KIND_BLOCK, KIND_CONTACT, KIND_CRACK, KIND_SUPPORT = 0, 1, 2, 3
 _FLOAT = {"displacement": 3, "velocity": 3, "rotation": 1, "angular_velocity": 1, "sn": 1,
@@ -198,22 +200,65 @@ def vtk_mesh(model) -> meshio.Mesh:
                        point_data={"vertex_displacement": _vec3(np.concatenate(disp))})
 
 
-def write_vtk(model, path) -> Path:
+def write_vtk(model, path, field_data=None) -> Path:
     """Write the model's current state to ``path`` (.vtu, binary, zlib) for ParaView; returns
-    the path. Fields and conventions: the module docstring."""
+    the path. Fields and conventions: the module docstring; the file's field data names the
+    integer codes (``legend_field_data``) and holds ``field_data`` (name -> number, e.g. the
+    stage or the search level it shows)."""
     path = Path(path)
     if path.suffix != ".vtu":
         raise ValueError(f"write_vtk writes an unstructured grid: the path must end in .vtu, "
                          f"got {str(path)!r}")
     meshio.write(path, vtk_mesh(model), file_format="vtu")
+    _add_field_data(path, {**legend_field_data(model), **{
+        str(k): np.atleast_1d(np.asarray(v, np.float64)) for k, v in (field_data or {}).items()}})
     return path
 
 
+def legend_field_data(model) -> dict:
+    """The names of the integer codes as VTK field data: for each code of ``kind``,
+    ``support``, ``group``, ``region``, ``material``, ``mode`` and ``state`` (``legend``) an
+    array named "<field> <code>: <name>" holding the code, so ParaView's Information panel
+    lists them. (Named arrays, not VTK string arrays: meshio, which reads the files back,
+    does not read string arrays.)"""
+    names = legend(model)
+    out = {}
+    for key in ("kind", "support", "group", "region", "material", "mode"):
+        items = names[key].items() if isinstance(names[key], dict) else enumerate(names[key])
+        for code, name in items:
+            out[f"{key} {code}: {name}"] = np.array([int(code)], np.int32)
+    contact, support = names["state"], names["support_state"]
+    for code in range(max(len(contact), len(support))):
+        words = [f"{what} {n[code]}" for what, n in (("contact", contact), ("support", support))
+                 if code < len(n)]
+        out[f"state {code}: {'; '.join(words)}"] = np.array([code], np.int32)
+    return out
+
+
+def _add_field_data(path, arrays) -> None:
+    """Put ``arrays`` (name -> 1-D int32 or float64 array) into the .vtu at ``path`` as the
+    grid's FieldData (meshio 5 reads field data but does not write it)."""
+    rows = []
+    for name, v in arrays.items():
+        kind = "Int32" if v.dtype == np.int32 else "Float64"
+        text = " ".join(str(int(x)) if kind == "Int32" else repr(float(x)) for x in v)
+        rows.append(f'<DataArray type="{kind}" Name={quoteattr(name)} '
+                    f'NumberOfTuples="{v.size}" format="ascii">{text}</DataArray>\n')
+    text = path.read_text()
+    head, sep, tail = text.partition("<UnstructuredGrid>\n")
+    if not sep:
+        raise ValueError(f"{str(path)!r}: no <UnstructuredGrid> to hold the field data")
+    path.write_text(head + sep + "<FieldData>\n" + "".join(rows) + "</FieldData>\n" + tail)
+
+
 def legend(model) -> dict:
-    """The names behind the integer fields: kinds, groups, regions, materials, states, modes."""
-    return {"kind": ["block", "contact", "crack", "support"], "support": ["cable", "liner"], "group": list(model.blocks.groups),
+    """The names behind the integer fields: kinds, groups, regions, materials, states (a
+    contact's ``state``; a support element's ``support_state``), modes."""
+    return {"kind": ["block", "contact", "crack", "support"], "support": ["cable", "liner"],
+            "group": list(model.blocks.groups),
             "region": list(model.blocks.region_names), "material": list(model.table.names),
             "state": ["intact", "slipping", "broken in tension", "broken in shear", "unbonded"],
+            "support_state": ["elastic", "yielded", "ruptured (cables)"],
             "mode": {"1": "tension", "2": "shear"},
             "units": {"displacement": "m", "velocity": "m/s", "rotation": "rad (CCW +)",
                       "angular_velocity": "rad/s", "sn": "Pa (compression +)", "ts": "Pa",
@@ -257,15 +302,17 @@ class VtkSeries:
     def pvd(self) -> Path:
         return self.folder / f"{self.name}.pvd"
 
-    def add(self, model, time=None) -> Path:
-        """Write the model's state as the next member of the series; returns its path."""
+    def add(self, model, time=None, field_data=None) -> Path:
+        """Write the model's state as the next member of the series (``field_data``:
+        ``write_vtk``'s); returns its path."""
         t = float(model.time if time is None else time)
         if not np.isfinite(t):
             raise ValueError(f"time of a series member must be finite, got {time!r}")
         if not self.entries:
             (self.folder / f"{self.name}_legend.json").write_text(json.dumps(legend(model),
                                                                              indent=1))
-        path = write_vtk(model, self.folder / f"{self.name}_{len(self.entries):04d}.vtu")
+        path = write_vtk(model, self.folder / f"{self.name}_{len(self.entries):04d}.vtu",
+                         field_data)
         self.entries.append((t, path.name))
         rows = "".join(f'    <DataSet timestep="{t!r}" group="" part="0" file={quoteattr(f)}/>\n'
                        for t, f in self.entries)
