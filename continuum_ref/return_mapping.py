@@ -4,9 +4,11 @@ Layout and signs
 ----------------
 Stress and strain at n points are (n, 4) **Mandel** vectors [xx, yy, zz, sqrt(2) xy] with
 **tension positive** (the FE convention); then sigma : eps = sigma_M . eps_M and tangents are
-symmetric (n, 4, 4) arrays. Plane strain keeps sigma_zz so that principal stresses are ordered
-correctly. The yield criteria are written in ordered principal stresses s1 >= s2 >= s3 with
-**compression positive** (rock-mechanics convention); `plane_strain_return` does the conversion.
+(n, 4, 4) arrays, symmetric for associated flow only (psi < phi: D - D g n^T D / (n^T D g),
+g the flow and n the yield normal; solve with LU, not Cholesky or CG). Plane strain keeps
+sigma_zz so that principal stresses are ordered correctly. The yield criteria are written in
+ordered principal stresses s1 >= s2 >= s3 with **compression positive** (rock-mechanics
+convention); `plane_strain_return` does the conversion.
 
 Algorithm
 ---------
@@ -35,7 +37,7 @@ from .materials import HoekBrown, MohrCoulomb, lame
 
 __all__ = ["ELASTIC", "SHEAR", "TENSION", "elastic_tangent", "principal_decomposition",
            "plane_strain_return", "return_map", "mohr_coulomb_principal", "hoek_brown_principal",
-           "yield_function"]
+           "yield_function", "acoustic_determinant"]
 
 ELASTIC, SHEAR, TENSION = 0, 1, 2
 SQ2 = math.sqrt(2.0)
@@ -284,6 +286,35 @@ def yield_function(s, mat):
     beyond = x[:, 2] < apex
     f = _hb_surfaces(np.where(beyond[:, None], apex, x), mat.mb, mat.s, mat.a, 0)[0]
     return np.where(beyond, x[:, 0] - x[:, 2] + apex - x[:, 2], f) * mat.sci
+
+
+def acoustic_determinant(tangent, n_angles=360):
+    """Smallest determinant of the acoustic tensor over in-plane band normals (Pa^2).
+
+    Q_ik(n) = n_j C_ijkl n_l for unit normals n = (cos a, sin a), a in [0, pi); a band of
+    normal n can form (the incremental problem loses ellipticity) where det Q(n) <= 0
+    (Rudnicki & Rice 1975, J. Mech. Phys. Solids 23). Perfectly plastic Mohr-Coulomb with
+    associated flow stays on the border (min det Q = 0 at yield); with psi < phi it is past it
+    (min det Q < 0), the critical hardening modulus being positive (Vermeer & de Borst 1984,
+    Heron 29(3)): the rate problem has no unique solution at such points.
+
+    Parameters
+    ----------
+    tangent : (n, 4, 4) array
+        Mandel plane-strain tangents d sigma / d eps (Pa).
+
+    Returns
+    -------
+    (n,) array
+        min over a of det Q(n(a)).
+    """
+    a = np.linspace(0.0, math.pi, n_angles, endpoint=False)
+    c, s, zero = np.cos(a), np.sin(a), np.zeros_like(a)
+    # row k: the Mandel strain of (e_k x n)_sym = the traction map sigma -> (sigma n)_k
+    T = np.stack([np.stack([c, zero, zero, s / SQ2], axis=1),
+                  np.stack([zero, s, zero, c / SQ2], axis=1)], axis=1)   # (angles, 2, 4)
+    Q = np.einsum("aim,nmp,akp->naik", T, tangent, T)
+    return np.linalg.det(Q).min(axis=1)
 
 
 # ------------------------------------------------------------------------------------------

@@ -17,6 +17,9 @@ MATERIALS = {
     "mc_nonassociated": (MohrCoulomb(E=1e9, nu=0.25, cohesion=1e6, friction=35.0, dilation=5.0,
                                      tensile_strength=0.2e6), 5e6),
     "hoek_brown": (HoekBrown.from_gsi(50.0, 10.0, 50e6, E=5e9), 10e6),
+    # the c-phi slope of tests/test_continuum_ssr.py with psi = 0 (issue 53)
+    "mc_psi_zero": (MohrCoulomb(E=1e8, nu=0.3, cohesion=20e3, friction=30.0, dilation=0.0),
+                    100e3),
 }
 
 
@@ -93,8 +96,59 @@ def test_tangent_matches_central_finite_differences(name):
     err = np.abs(fd - C).max(axis=(1, 2)) / mat.E
     assert (mode > 0).sum() > 100
     assert np.quantile(err, 0.99) < 1e-6 and err.max() < 1e-4
-    if name != "mc_nonassociated":   # associated flow gives a symmetric tangent
+    if name not in ("mc_nonassociated", "mc_psi_zero"):   # associated: symmetric tangent
         assert np.abs(C - C.transpose(0, 2, 1)).max() < 1e-9 * mat.E
+
+
+def _central_difference_tangent(sig_tr, mat, h):
+    """d sigma / d eps by central differences in each Mandel strain component (step h)."""
+    De = rm.elastic_tangent(mat.E, mat.nu)
+    fd = np.empty((len(sig_tr), 4, 4))
+    for k in range(4):
+        d = np.zeros(4)
+        d[k] = h
+        fd[:, :, k] = (rm.return_map(sig_tr + De @ d, mat)[0]
+                       - rm.return_map(sig_tr - De @ d, mat)[0]) / (2 * h)
+    return fd
+
+
+def test_psi_zero_tangent_at_one_point_is_the_non_symmetric_consistent_tangent():
+    # One Gauss point of the psi = 0 slope material on the main plane (distinct principal
+    # stresses, rotated axes). Principal part: d s / d s_tr = I - Dp g a^T / (a^T Dp g) with
+    # the normal a = (1, 0, -kp) and the flow direction g = (1, 0, -kq), kq = 1 for psi = 0
+    # (de Souza Neto, Peric & Owen 2008, sec. 8.2); the full tangent, spin terms included,
+    # equals central differences and is not symmetric (a Cholesky / CG solver would be wrong).
+    mat = MohrCoulomb(E=1e8, nu=0.3, cohesion=20e3, friction=30.0, dilation=0.0)
+    sig_tr = np.array([[-150e3, -20e3, -60e3, np.sqrt(2) * 30e3]])
+    _, C, mode = rm.return_map(sig_tr, mat)
+    assert mode[0] == rm.SHEAR
+    lam, G = mat.E * mat.nu / ((1 + mat.nu) * (1 - 2 * mat.nu)), mat.E / (2 * (1 + mat.nu))
+    Dp = lam * np.ones((3, 3)) + 2 * G * np.eye(3)
+    kp = (1 + np.sin(np.radians(30.0))) / (1 - np.sin(np.radians(30.0)))
+    a, g = np.array([1.0, 0.0, -kp]), np.array([1.0, 0.0, -1.0])
+    _, jac, _ = rm.mohr_coulomb_principal(_principal_compression(sig_tr), mat)
+    np.testing.assert_allclose(jac[0], np.eye(3) - np.outer(Dp @ g, a) / (a @ Dp @ g),
+                               atol=1e-12)
+    fd = _central_difference_tangent(sig_tr, mat, 1e-7 * 100e3 / mat.E)
+    assert np.abs(fd - C).max() < 1e-7 * mat.E
+    assert np.abs(C - C.transpose(0, 2, 1)).max() > 0.05 * mat.E
+
+
+def test_psi_zero_loses_ellipticity_where_associated_flow_does_not():
+    # Acoustic tensor of the algorithmic tangent at yielding points of the slope material:
+    # associated flow stays on the border (min det Q = 0), psi = 0 is past it at most shear
+    # points (Vermeer & de Borst 1984): no unique rate solution there, whatever the solver.
+    elastic, _ = MATERIALS["mc_psi_zero"]
+    sig_tr = _trial(100e3, n=2000, seed=11)
+    dets = {}
+    for psi in (None, 0.0):
+        mat = MohrCoulomb(E=1e8, nu=0.3, cohesion=20e3, friction=30.0, dilation=psi)
+        _, C, mode = rm.return_map(sig_tr, mat)
+        dets[psi] = rm.acoustic_determinant(C[mode == rm.SHEAR]) / mat.E ** 2
+    De = rm.elastic_tangent(elastic.E, elastic.nu)[None]
+    assert rm.acoustic_determinant(De)[0] > 0.1 * elastic.E ** 2
+    assert dets[None].min() > -1e-9 and np.median(dets[None]) < 1e-4
+    assert np.mean(dets[0.0] < -1e-4) > 0.5 and dets[0.0].min() < -0.01
 
 
 def test_tresca_return_matches_the_closed_form():

@@ -217,13 +217,21 @@ def test_ssr_does_not_call_a_solver_failure_a_limit(non_associated):
     # psi = 0: Newton stops converging at F ~ 1.5 with no displacement growth (contained
     # yielding below the crest; see continuum_ref.ssr). That is reported, not taken as F,
     # and the note says why and what reaches a limit.
+    from continuum_ref import return_mapping as rm
     from continuum_ref import ssr
-    result = ssr.factor_of_safety(_slope_model(1.0, non_associated), [non_associated],
-                                  f_max=3.0, tol=0.01)
+    model = _slope_model(1.0, non_associated)
+    result = ssr.factor_of_safety(model, [non_associated], f_max=3.0, tol=0.01)
     assert result.first_failed is not None
     assert not result.mechanism and not result.found
     assert result.upturn < 10.0
     assert "not a limit" in result.note and "flow='davis'" in result.note
+    # Why (issue 53): at the last converged state every shear-yielding point is past the
+    # ellipticity border (acoustic tensor det Q < 0 for some band normal; with psi = phi none
+    # is), so the rate problem has no unique solution there, whatever the solver.
+    at_limit = non_associated.reduced(result.value * (1 + 1e-7))    # just outside: plastic
+    _, tangent, mode = rm.return_map(model.sig_n, at_limit)
+    det = rm.acoustic_determinant(tangent[mode == rm.SHEAR])
+    assert (mode == rm.SHEAR).sum() > 100 and np.all(det < 0)
 
 
 # ----------------------------------------------------------- non-associated flow (psi < phi)
