@@ -4,7 +4,7 @@
 
 ``run-scene FILE --method continuum`` runs the scene's stages in the continuum (its
 "continuum" section: mesh size and each region's material), ``--method both`` in both methods
-with one report giving each method's column and run time (``comparisons.run_scene.
+with one report giving each method's column and run time (``comparisons.scene_continuum.
 run_continuum``); the default ``dem`` is the DEM alone.
 
 ``run-scene FILE --check`` checks the scene and builds its model (blocks and contacts, no
@@ -232,12 +232,13 @@ def run_scene_file(path, out: Path, vtk: bool = False, quiet: bool = False, sett
     (``build_checked``: too large for the machine, a stage the model cannot take) are refused
     before any compute; a stage that raises ends with
     status 1 after the outputs of the stages before it are written. ``method``: "dem",
-    "continuum" (the scene's "continuum" section, ``comparisons.run_scene.run_continuum``; no
+    "continuum" (the scene's "continuum" section, ``comparisons.scene_continuum.run_continuum``; no
     DEM model is built) or "both" (one report with both columns); a scene without a
     "continuum" section, or with a stage the continuum cannot run, is refused before any
     compute."""
-    from comparisons.run_scene import (build_checked, check_continuum, load_stages, prepare,
+    from comparisons.run_scene import (build_checked, load_stages, prepare,
                                        run_prepared, scene_source)
+    from comparisons.scene_continuum import check_continuum
 
     with ExitStack() as stack:
         try:
@@ -288,13 +289,13 @@ def run_scene_file(path, out: Path, vtk: bool = False, quiet: bool = False, sett
 
 
 def _continuum_column(scene, folder, path, progress, dem=None):
-    from comparisons.run_scene import run_continuum
+    from comparisons.scene_continuum import run_continuum
 
     return run_continuum(scene, folder, path, progress=progress, dem=dem)
 
 
 def _print_continuum(records, error) -> None:
-    from comparisons.run_scene import continuum_line
+    from comparisons.scene_continuum import continuum_line
 
     print("Continuum:")
     for r in records:

@@ -63,13 +63,7 @@ outputs are written again, no stage run); a checkpoint of another source (the sc
 ``--set`` changed) is refused before any compute (``comparisons.store.check_kept``);
 ``--restart``, like a run without ``--resume``, deletes the kept results first.
 
-The continuum (``--method continuum|both``, ``run_continuum``): a scene with a "continuum"
-section (mesh size, each region's rock mass, flow rule; docs/scenes.md) runs its stages in
-``continuum_ref`` too (``continuum_ref.scene_run``), before any compute checked
-(``check_continuum``: a stage the continuum cannot run is refused, naming it).
-``continuum.json`` holds its stages (verdict, F or g, largest displacement, seconds) and
-report.md a table of both methods' stages with their run times (``methods_table``); with
-``continuum`` alone no DEM model is built and report.md holds the continuum column only.
+The continuum (``--method continuum|both``): ``comparisons.scene_continuum``.
 """
 from __future__ import annotations
 
@@ -85,13 +79,13 @@ from pathlib import Path
 import numpy as np
 
 from comparisons.results import _jsonable, software_versions
+from dem_core.output.fingerprint import results_hash, state_hash
 from comparisons import store
 from comparisons.store import check_folder
 
 __all__ = ["prepare", "run_scene", "run_prepared", "build_checked", "scene_folder",
            "RESULT_KEYS", "apply_settings", "scene_source", "load_stages", "STAGES_CHECKPOINT",
            "check_scene", "check_figure", "verdict_line", "verdict_lines", "CHECK_PICTURE",
-           "METHODS", "check_continuum", "run_continuum", "continuum_line", "methods_table",
            "stage_outputs", "VTK_FOLDER"]
 
 CHECK_PICTURE = "check.png"                 # <out>/<scene name>/<this>, written by --check
@@ -584,7 +578,10 @@ def write_outputs(folder: Path, scene, path, model, records, error, runtime_s, v
     summary = {"scene": scene.name, "file": str(Path(path).resolve()),
                "description": scene.description, "method": "dem",
                "blocks": int(model.n_blocks), "contacts": int(model.contacts.n),
-               "stages": stages, "results": results, "runtime_s": runtime_s,
+               "stages": stages, "results": results,
+               # the same input gives the same bits (docs/output.md): two runs compare here
+               "results_hash": results_hash({"stages": stages, "results": results}),
+               "state_hash": state_hash(model), "runtime_s": runtime_s,
                "error": None if error is None else f"{type(error).__name__}: {error}",
                "versions": software_versions(), "written": time.strftime("%Y-%m-%d %H:%M:%S")}
     (folder / "summary.json").write_text(json.dumps(_jsonable(summary), indent=2))
@@ -677,6 +674,8 @@ def _report(summary, records, curves, vtk, name, verdicts=(), folder=None) -> st
         lines += ["", summary["description"]]
     lines += ["", f"{summary['blocks']} blocks, {summary['contacts']} contacts; "
               f"{len(records)} stages in {summary['runtime_s']:.1f} s."]
+    lines += ["", f"Results hash: `{summary['results_hash']}`, final state: "
+                  f"`{summary['state_hash']}` (docs/output.md, \"Same input, same bits\")."]
     if summary["error"]:
         lines += ["", f"**The run stopped with an error:** {summary['error']}"]
     if summary["results"]:
@@ -739,111 +738,3 @@ def _held_stretch(polygons, side, line):
         return ([xa, xa], [on[:, 1].min(), on[:, 1].max()]) if on.size else line
     on = pts[np.abs(pts[:, 1] - ya) <= tol]
     return ([on[:, 0].min(), on[:, 0].max()], [ya, ya]) if on.size else line
-
-
-# ---------------------------------------------------------------------- the continuum column
-METHODS = ("dem", "continuum", "both")
-CONTINUUM_SUMMARY = "continuum.json"        # <out>/<scene name>/<this>, --method continuum|both
-
-
-def check_continuum(scene) -> None:
-    """What ``--method continuum|both`` needs before any compute: the scene's "continuum"
-    section, its region materials (built, so their ranges are checked), boundaries on box
-    sides (``continuum_ref.scene_run.check_boundaries``) and stages the
-    continuum can run (``continuum_ref.scene_run.check_continuum_stages``). ValueError naming
-    what is missing or refused."""
-    from continuum_ref.scene_run import check_boundaries, check_continuum_stages, \
-        region_materials
-
-    if scene.continuum is None:
-        raise ValueError(f"scene {scene.name!r} has no \"continuum\" section (mesh size h and "
-                         f"each region's material, docs/scenes.md): the continuum cannot run it")
-    _, fos = region_materials(scene, scene.continuum["materials"])
-    check_boundaries(scene)
-    check_continuum_stages(scene, fos)
-
-
-def run_continuum(scene, folder, path, progress=None, dem=None):
-    """Run the scene's stages in the continuum (``continuum_ref.scene_run.run_scene``) and
-    write ``continuum.json`` (mesh size, flow, materials, each stage: kind, verdict, value,
-    first_failed, max_displacement (m), points (m), seconds, note; runtime_s, error) and the
-    report: with ``dem`` (the DEM's records and run time, its report.md already written) the
-    DEM-and-continuum table is put into that report (the DEM's time is its summary's
-    ``runtime_s``: build and stages, no outputs), else report.md holds the continuum
-    column alone. Returns (records, error)."""
-    from continuum_ref.scene_run import run_scene as run_continuum_scene
-
-    say = progress or (lambda message: None)
-    t0, records, error = time.perf_counter(), [], None
-    try:
-        records = run_continuum_scene(scene, progress=say)
-    except Exception as e:          # kept in the outputs, as a DEM stage that raises
-        error = e
-    runtime = time.perf_counter() - t0
-    section = scene.continuum
-    summary = {"scene": scene.name, "file": str(Path(path).resolve()), "method": "continuum",
-               "h": section["h"], "flow": section.get("flow", "native"),
-               "materials": section["materials"],
-               "stages": [dataclasses.asdict(r) for r in records], "runtime_s": runtime,
-               "error": None if error is None else f"{type(error).__name__}: {error}",
-               "versions": software_versions(), "written": time.strftime("%Y-%m-%d %H:%M:%S")}
-    (Path(folder) / CONTINUUM_SUMMARY).write_text(json.dumps(_jsonable(summary), indent=2))
-    table = methods_table(scene, records, runtime, error, dem)
-    report = Path(folder) / "report.md"
-    if dem is not None and report.exists():
-        text = report.read_text().replace("(scene file, DEM)", "(scene file, DEM and continuum)",
-                                          1)
-        head, sep, tail = text.partition("\n## Scene\n")
-        report.write_text(head + "\n" + table + sep + tail if sep else text + "\n" + table)
-    else:
-        report.write_text(f"# {scene.name} (scene file, continuum)\n\nFile: "
-                          f"`{summary['file']}`\n\n{table}\n## Software\n\n"
-                          + "".join(f"- {k}: {v}\n" for k, v in summary["versions"].items()))
-    return records, error
-
-
-def continuum_line(r) -> str:
-    """One line of a continuum stage: kind, verdict, F or g, max |u| (mm), seconds."""
-    value = "" if r.value is None else f" {'F' if r.kind == 'factor_of_safety' else 'g'} = " \
-                                       f"{r.value:.4g}"
-    return (f"stage {r.index} {r.kind}: {r.verdict}{value}, max |u| "
-            f"{1e3 * r.max_displacement:.3g} mm, {r.seconds:.1f} s")
-
-
-def methods_table(scene, records, runtime, error=None, dem=None) -> str:
-    """The "DEM and continuum" section of a report: per stage the DEM's verdict line and wall
-    seconds (``dem``: (records, runtime_s), or None for the continuum alone) and the
-    continuum's verdict, F or g, largest displacement and wall seconds; the run times."""
-    from dem_core.workflow.stages import stage_to_dict
-
-    by_dem = {r.index: r for r in (dem[0] if dem else [])}
-    by_fe = {r.index: r for r in records}
-    section = scene.continuum
-    lines = ["## DEM and continuum" if dem else "## Continuum", "",
-             f"Continuum: mesh size h = {section['h']:g} m, flow "
-             f"{section.get('flow', 'native')!r}, materials "
-             + ", ".join(f"{k}: {v.get('kind') if isinstance(v, dict) else v}"
-                         for k, v in section["materials"].items())
-             + " (continuum_ref.scene_run).", ""]
-    head = "| stage | kind |" + (" DEM | DEM s |" if dem else "") + \
-        " continuum | F or g | max abs(u) (mm) | continuum s |"
-    lines += [head, "|" + "---|" * (head.count("|") - 1)]
-    for i, st in enumerate(scene.stages):
-        kind, d, r = stage_to_dict(st)["kind"], by_dem.get(i), by_fe.get(i)
-        row = f"| {i} | {kind} |"
-        if dem:
-            row += (f" {verdict_line(d).split(': ', 1)[-1]} | {d.seconds:.1f} |" if d
-                    else " not run | |")
-        if r:
-            row += (f" {r.verdict} | {'' if r.value is None else f'{r.value:.4g}'} | "
-                    f"{1e3 * r.max_displacement:.3g} | {r.seconds:.1f} |")
-        else:
-            row += " not run | | | |"
-        lines.append(row)
-    times = ([f"DEM {dem[1]:.1f} s"] if dem else []) + [f"continuum {runtime:.1f} s (with "
-                                                        f"the mesh)"]
-    lines += ["", "Run time: " + ", ".join(times) + "."]
-    if error is not None:
-        lines += ["", f"**The continuum run stopped with an error:** "
-                      f"{type(error).__name__}: {error}"]
-    return "\n".join(lines) + "\n"

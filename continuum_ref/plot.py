@@ -107,8 +107,8 @@ def _magnification(model, live):
 
 def stage_figure(model, heading, water=None):
     """The state of ``model`` at a stage's end, excavated cells left out: displacement (mm)
-    on the shape moved by the magnification in its title, yield at any time of the loading
-    (``plot_yield``), and tau_max (MPa). ``heading``: what the state is (the stage, its
+    on the shape moved by the magnification in its title, the points yielding at that state
+    (``plot_yield``, ``ever=False``), and tau_max (MPa). ``heading``: what the state is (the stage, its
     verdict), the figure's title. ``water``: the water table's points [(x, y), ...] in m,
     drawn as a blue line on each panel, or None."""
     import matplotlib.pyplot as plt
@@ -118,7 +118,7 @@ def stage_figure(model, heading, water=None):
     fig, axes = plt.subplots(3, 1, figsize=(8.5, 11), constrained_layout=True)
     plot_displacement(model, axes[0], scale=k, unit="mm")
     axes[0].set_title(f"displacement (mm), shape moved x {k:g}", fontsize=9)
-    plot_yield(model, axes[1])
+    plot_yield(model, axes[1], ever=False)       # yielding now: where the mechanism is
     axes[1].title.set_fontsize(9)
     plot_shear_stress(model, axes[2])
     axes[2].set_title("largest shear stress tau_max (MPa, effective)", fontsize=9)
@@ -127,9 +127,12 @@ def stage_figure(model, heading, water=None):
         ax.set_ylabel("y (m)")
         if water is not None:
             xw, yw = np.asarray(water, float).T
-            ax.plot(xw, yw, color="tab:blue", lw=1.5, ls="--")
-            ax.annotate("water table", (xw[0], yw[0]), xytext=(3, 3),
-                        textcoords="offset points", color="tab:blue", fontsize=7)
+            # cyan over black: seen on the yield panel's blue shear cells and the colour maps
+            ax.plot(xw, yw, color="k", lw=2.6, zorder=5)
+            ax.plot(xw, yw, color="cyan", lw=1.4, ls="--", zorder=6)
+            ax.annotate("water table", (xw[0], yw[0]), xytext=(3, 4), zorder=6,
+                        textcoords="offset points", fontsize=7,
+                        bbox=dict(facecolor="white", alpha=0.7, edgecolor="none", pad=1))
     gone = int(np.sum(~live))
     fig.suptitle(heading + (f"\n{gone} excavated cells not drawn" if gone else ""),
                  fontsize=10)

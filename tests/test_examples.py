@@ -20,3 +20,40 @@ def test_example(name, monkeypatch):
     module = importlib.import_module(name)
     assert module.main(quick=True) > 0          # each main asserts its own number
     sys.modules.pop(name, None)
+
+
+def test_the_field_slope_scene_file_is_the_examples_scene(monkeypatch):
+    """examples/field_slope.json is what ``field_slope.write_scene_file`` writes (a stale file
+    fails: run it again)."""
+    import json
+
+    monkeypatch.syspath_prepend(str(EXAMPLES))
+    import field_slope
+
+    written = json.loads((EXAMPLES / "field_slope.json").read_text())
+    assert written == json.loads(json.dumps(field_slope.file_scene().to_dict()))
+    sys.modules.pop("field_slope", None)
+
+
+def test_the_field_slope_file_runs_in_both_methods(tmp_path, capsys):
+    """``run-scene examples/field_slope.json --method both``: the DEM's factor of safety is
+    planar sliding on a bedding joint (limit equilibrium 1.115, examples/field_slope.py); the
+    continuum's, through a Hoek-Brown rock mass with no joints, is higher; one report holds
+    both columns and both methods' pictures."""
+    import json
+
+    from comparisons import cli
+
+    assert cli.main(["run-scene", str(EXAMPLES / "field_slope.json"), "--method", "both",
+                     "--out", str(tmp_path), "--quiet"]) == 0
+    out = capsys.readouterr().out
+    folder = tmp_path / "field_slope"
+    dem = json.loads((folder / "summary.json").read_text())["results"]["factor_of_safety"]
+    fe = json.loads((folder / "continuum.json").read_text())["stages"][-1]
+    assert abs(dem / 1.115 - 1) < 0.05
+    assert fe["verdict"] == "limit" and fe["value"] > 1.5 * dem
+    assert f"factor of safety {dem:.2f}" in out and f"F = {fe['value']:.4g}" in out
+    report = (folder / "report.md").read_text()
+    for picture in ("stage11_factor_of_safety.png", "stage11_search.png",
+                    "continuum_stage11_factor_of_safety.png", "continuum_stage7_excavate.png"):
+        assert (folder / picture).exists() and f"({picture})" in report

@@ -199,3 +199,14 @@ def test_a_schedule_reads_towards_failure_and_a_ramp_plots_its_points_alone():
     assert np.allclose(a.get_ydata(), [1.0, 2.0, 20.0])
     assert "|ux|" in fig.axes[0].get_ylabel() and "g-level" in fig.axes[0].get_xlabel()
     plt.close(fig)
+
+
+def test_a_scene_run_carries_the_hashes_of_its_results_and_final_state(run):
+    import json
+
+    folder = run[0]
+    summary = json.loads((folder / "summary.json").read_text())
+    report = (folder / "report.md").read_text()
+    assert len(summary["results_hash"]) == len(summary["state_hash"]) == 16
+    assert f"Results hash: `{summary['results_hash']}`, final state: " \
+           f"`{summary['state_hash']}`" in report
