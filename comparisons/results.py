@@ -2,9 +2,10 @@
 
 ``summary.json`` holds ``case``, ``variant``, ``seed``, ``methods`` (one object per method run,
 each with its metrics and ``runtime_s``), ``reference`` (thesis and experimental values),
-``errors`` (each compared metric against its reference), ``notes`` (assumptions) and
-``versions``. Curves go to CSV, figures to PNG, and ``report.md`` puts the figures and a table of
-ours against the references side by side.
+``errors`` (each compared metric against its reference), ``notes`` (assumptions),
+``versions`` and ``results_hash`` (``case_hash``: two runs with the same hash gave the same
+numbers, bit for bit). Curves go to CSV, figures to PNG, and ``report.md`` puts the figures and
+a table of ours against the references side by side.
 """
 from __future__ import annotations
 
@@ -16,6 +17,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+
+from dem_core.output.fingerprint import is_wall_clock, results_hash
 
 
 @dataclass
@@ -108,7 +111,7 @@ def write_results(result: CaseResult, out_root: Path) -> Path:
         "case": result.case, "variant": result.variant, "seed": result.seed,
         "methods": result.methods, "reference": result.reference, "errors": result.errors,
         "notes": result.notes, "versions": software_versions(),
-        "written": time.strftime("%Y-%m-%d %H:%M:%S"),
+        "written": time.strftime("%Y-%m-%d %H:%M:%S"), "results_hash": case_hash(result),
     }
     (out / "summary.json").write_text(json.dumps(_jsonable(summary), indent=2))
     for name, curve in result.curves.items():
@@ -118,8 +121,25 @@ def write_results(result: CaseResult, out_root: Path) -> Path:
     for name, fig in result.figures.items():
         fig.savefig(out / f"{name}.png", dpi=110, bbox_inches="tight")
         _release(fig)
-    (out / "report.md").write_text(render_report(result, summary["versions"]))
+    (out / "report.md").write_text(render_report(result, summary["versions"],
+                                                 summary["results_hash"]))
     return out
+
+
+def case_hash(result: CaseResult) -> str:
+    """``dem_core.output.fingerprint.results_hash`` of the case's numbers as computed, before
+    anything is rounded for the files: case, variant, seed, ``methods``, ``errors`` and every
+    curve (columns and rows), without wall-clock times (``runtime_s``, a curve's run-time
+    columns: ``fingerprint.is_wall_clock``). Not recomputable from the files (the CSVs keep 8
+    digits); compare two reports' hashes instead (docs/output.md, "Same input, same bits")."""
+    curves = {}
+    for name, curve in result.curves.items():
+        rows = np.asarray(curve.rows, dtype=float).reshape(-1, len(curve.columns))
+        keep = [i for i, c in enumerate(curve.columns) if not is_wall_clock(c)]
+        curves[name] = {"columns": [curve.columns[i] for i in keep], "rows": rows[:, keep]}
+    return results_hash({"case": result.case, "variant": result.variant, "seed": result.seed,
+                         "methods": result.methods, "errors": result.errors,
+                         "curves": curves})
 
 
 def _release(fig) -> None:
@@ -130,8 +150,13 @@ def _release(fig) -> None:
     plt.close(fig)
 
 
-def render_report(result: CaseResult, versions: dict) -> str:
+def render_report(result: CaseResult, versions: dict, digest: str | None = None) -> str:
+    """The report's Markdown; ``digest``: the results hash (``case_hash``), on its own line
+    under the title."""
     lines = [f"# {result.case} ({result.variant} variant, seed {result.seed})", ""]
+    if digest is not None:
+        lines += [f"Results hash: `{digest}` (the same hash: the same numbers, bit for bit; "
+                  f"docs/output.md)", ""]
     lines += ["## Ours against the references", "",
               "| metric | method | ours | reference | abs. error | rel. error |",
               "|---|---|---|---|---|---|"]

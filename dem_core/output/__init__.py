@@ -2,7 +2,8 @@
 
 Holds: ``monitor`` (unbalanced ratio, energies, histories, the solve verdict, the instability
 diagnosis), ``rupture`` (the rupture surface from the crack log), ``io`` (model files), ``vtk``
-(ParaView output), ``plot`` (matplotlib pictures).
+(ParaView output), ``plot`` (matplotlib pictures), ``energy`` (the energy account),
+``fingerprint`` (hashes of a final state and of results: same input, same bits).
 
 May import: numpy, matplotlib, meshio (VTK only), ``dem_core.step.state``,
 ``dem_core.contact``, ``dem_core.components``, ``dem_core.deformable`` (their bundles and
