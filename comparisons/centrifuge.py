@@ -23,7 +23,7 @@ from dem_core.workflow.gravity_ramp import RampRecord
 from dem_core.workflow.limit import load_resumable, remove_resumable, save_resumable
 from dem_core.output.plot import block_picture, draw_picture, magnification
 from dem_core.workflow.scene import build_model
-from dem_core.workflow.stages import RaiseGravity, check_stages
+from dem_core.workflow.stages import Gravity, RaiseGravity, check_stages
 from dem_core.output.vtk import VtkSeries
 from dem_core.output.rupture import angle_to_joint_normal, depth_from_face, find_rupture
 
@@ -342,45 +342,57 @@ def _crack_points(ax, scene, run, rupture_line):
         ax.plot(line[:, 0], line[:, 1], "k-", lw=2, label="rupture surface")
 
 
-def continuum_critical_g(sc, mesh, material, g_max: float, result, runaway: float,
-                         label: str) -> dict:
-    """The continuum column of a centrifuge case: the slope ``mesh`` (continuum_ref, with
-    history points "A" and "B") of ``material`` with the boundaries of the scene ``sc`` (the
-    DEM's: a fixed base, rollers on the sides; ``continuum_ref.from_scene``) and its density,
-    gravity raised with step cutting until Newton fails or a node moves more than ``runaway`` m
-    (``continuum_ref.ssr.critical_g``). Adds the yield-indicator figure to ``result`` and
-    returns failure g, last stable g, ux of A and B against g (m), Newton iterations, cells,
-    ``label`` (the material in words) and runtime_s (s, without the caller's meshing)."""
+CONTINUUM_G_TOL = 1.0    # g: resolution of the continuum's critical g
+
+
+def continuum_stages(g_max: float, runaway: float) -> list:
+    """The continuum's stage list of a centrifuge case (``continuum_critical_g``): gravity at
+    1 g, then raised towards ``g_max`` until a limit (``continuum_ref.ssr.critical_g``,
+    resolution ``CONTINUUM_G_TOL``; a node moving more than ``runaway`` m counts as failed).
+    Not the DEM's ramp: that starts at its first level and judges the displacement within
+    each level; the continuum starts from equilibrium at 1 g and judges the total."""
+    return [Gravity(1.0), RaiseGravity((1.0, float(g_max)), failure_displacement=runaway,
+                                       refine_to=CONTINUUM_G_TOL)]
+
+
+def continuum_critical_g(sc, result, label: str) -> dict:
+    """The continuum column of a centrifuge case: the scene ``sc`` (the DEM's, with a
+    "continuum" section and ``continuum_stages``: its boundaries, points A and B and density)
+    run by ``continuum_ref.scene_run.run_scene``. Adds the yield-indicator figure at the end
+    of the search to ``result`` and returns failure g (the first failed g, None: none up to
+    g_max), last stable g, ux of A and B against g (m), Newton iterations of the search,
+    cells, ``label`` (the material in words) and runtime_s (s, meshing included)."""
     import matplotlib.pyplot as plt
 
-    from continuum_ref.from_scene import apply_boundaries, scene_bounds
-    from continuum_ref.model import ContinuumModel
     from continuum_ref.plot import plot_yield
-    from continuum_ref.ssr import critical_g
+    from continuum_ref.scene_run import run_scene
 
     t0 = time.perf_counter()
-    model = ContinuumModel(mesh, material, sc.density)
-    apply_boundaries(model, sc, scene_bounds(sc))
-    model.solve_gravity(1.0)
-    limit = critical_g(model, g_max=float(g_max), first_step=max(1.0, g_max / 10.0),
-                       tol=1.0, runaway=runaway)
+    end = {}
+    records = run_scene(sc, on_stage=lambda model, rec: end.update(model=model))
+    model, ramp = end["model"], records[-1]
+    if ramp.kind != "raise_gravity":
+        raise RuntimeError(f"continuum: stage {ramp.index} ({ramp.kind}) {ramp.verdict}: "
+                           f"{ramp.note}")
+    stood = ramp.detail["last_converged"]
     hist = {name: np.array([(t, ux) for kind, t, ux, _ in model.history[name]
                             if kind == "g"]) for name in ("A", "B")}
     fig, ax = plt.subplots(figsize=(6, 5))
     plot_yield(model, ax=ax)
-    when = (f"no failure up to {limit.value:.0f} g" if limit.first_failed is None else
-            f"fails at {limit.first_failed:.0f} g; shown at {limit.value:.0f} g")
+    when = (f"no failure up to {stood:.0f} g" if ramp.first_failed is None else
+            f"fails at {ramp.first_failed:.0f} g; shown at {stood:.0f} g")
     ax.set_title(f"continuum ({label.split(',')[0]}): {when}\n{ax.get_title()}", fontsize=9)
     result.figures["continuum_yield"] = fig
     if store.vtk_folder() is not None:
         from continuum_ref.vtk import write_xdmf
 
-        write_xdmf(model, store.vtk_folder() / "continuum.xdmf", time=float(limit.value))
+        write_xdmf(model, store.vtk_folder() / "continuum.xdmf", time=float(stood))
     g = hist["A"][:, 0] if len(hist["A"]) else np.zeros(0)
     return {
-        "failure_g": limit.first_failed, "last_stable_g": limit.value,
+        "failure_g": ramp.first_failed, "last_stable_g": stood,
         "g": g.tolist(), "ux_A": hist["A"][:, 1].tolist() if len(g) else [],
         "ux_B": hist["B"][:, 1].tolist() if len(g) else [],
-        "newton_iterations": limit.newton_iterations, "cells": int(len(model.triangles()[1])),
-        "material": label, "runtime_s": time.perf_counter() - t0,
+        "newton_iterations": ramp.detail["newton_iterations"],
+        "cells": int(len(model.triangles()[1])), "material": label,
+        "runtime_s": time.perf_counter() - t0,
     }

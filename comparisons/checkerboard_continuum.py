@@ -1,30 +1,46 @@
-"""The continuum column of case ``checkerboard``: the same section in ``continuum_ref`` and its
-strength-reduction factor of safety per UCS.
+"""The continuum column of case ``checkerboard``: the case's scene (comparisons/scenes/
+checkerboard.py, the one its DEM runs) with a "continuum" section and the continuum's stages
+(``continuum_scene``), and its strength-reduction factor of safety per UCS.
 
-Each unit is a Hoek-Brown rock mass (Hoek et al. 2002, D = 0; Table 7.2's GSI and mi; the
-weathered units at sigma_ci = UCS, the fresh ones at Table 7.2's sigma_ci) with Table 7.1's E
-and nu. Strength reduction needs a Mohr-Coulomb solid (``continuum_ref.ssr``), so each unit is
-converted with ``hoek_brown.equivalent_mohr_coulomb`` over sigma3 up to the scene's
-``SIGMA3_MAX`` (the same fit as the DEM's flaws; the weathered units' c and friction equal the
-flaws'), with the Hoek-Brown tensile strength s sci / mb as the tension cut-off (9-30 kPa: the
-rock mass's, not the back-calculated one) and dilation 0. No joints and no fault: the rock
-mass's GSI rates them (the continuum is the rock-mass model, as in Hoek-Brown practice).
-Gravity to equilibrium (no water: the table lies below the weathered zone), then the factor
-of safety.
+Material (``continuum_section``): each unit is a Hoek-Brown rock mass (Hoek et al. 2002,
+D = 0; Table 7.2's GSI and mi; the weathered units at sigma_ci = UCS, the fresh ones at Table
+7.2's sigma_ci) with Table 7.1's E and nu. Strength reduction needs a Mohr-Coulomb solid
+(``continuum_ref.ssr``), so each unit is converted with ``hoek_brown.equivalent_mohr_coulomb``
+over sigma3 up to the scene's ``SIGMA3_MAX`` (the same fit as the DEM's flaws; the weathered
+units' c and friction equal the flaws'), with the Hoek-Brown tensile strength s sci / mb as the
+tension cut-off (9-28 kPa in the weathered units: the rock mass's, not the back-calculated
+one) and dilation 0: a "mohr_coulomb" entry per region (a "hoek_brown" entry would carry
+gravity on the Hoek-Brown criterion itself, not on the fit that is reduced). No joints and no
+fault: the rock mass's GSI rates them (the continuum is the rock-mass model, as in Hoek-Brown
+practice).
+
+Stages: the continuum's own, not the DEM's (``base_stages``: gravity at 10 x the flaws'
+strength, their real strengths by ``change_material``, the water table; the slivers'
+excavation): gravity to equilibrium, then the factor of safety (``FactorOfSafety`` up to
+``f_max``, resolution ``F_TOL``). The contact materials' changes do not reach a rock mass given
+by its own entry, and the water is left out as before (the table lies below the weathered
+zone).
+
+**Run by hand, not by** ``continuum_ref.scene_run.run_scene``: the mesh is graded, h within
+100 m of the cut's toe and crest growing to 4 h, and ``run_scene`` meshes at one size. At a
+uniform 20 m (the quick variant's h) F moves by 1-2 % and the searches end without a mechanism
+(docs/comparisons.md, "Continuum columns from the scene files"). The run does what
+``run_scene`` does with these two stages, from the same scene.
 """
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 
 from comparisons.scenes import checkerboard as scene
 from continuum_ref import hoek_brown as hb
-from dem_core.geometry import GeometrySpec
+from dem_core.workflow.stages import FactorOfSafety, Gravity
+
+F_TOL = 0.02        # resolution of the factor of safety
 
 
 def rock_masses(p: scene.CheckerboardParams) -> dict:
-    """{region name: MohrCoulomb} (module docstring)."""
-    from continuum_ref.materials import MohrCoulomb
-
+    """{region name: "mohr_coulomb" file entry (Pa, degrees)} (module docstring)."""
     out = {}
     for r in scene.regions(p):
         unit = scene.unit_of(r.name)
@@ -32,38 +48,55 @@ def rock_masses(p: scene.CheckerboardParams) -> dict:
         sci = p.ucs if unit in scene.WEATHERED else u["sci"]
         mb, s, a = hb.parameters(u["gsi"], u["mi"])
         c, phi = hb.equivalent_mohr_coulomb(sci, mb, s, a, scene.SIGMA3_MAX)
-        out[r.name] = MohrCoulomb(E=u["E"], nu=u["nu"], cohesion=c, friction=phi,
-                                  dilation=0.0, tensile_strength=s * sci / mb)
+        out[r.name] = {"kind": "mohr_coulomb", "E": u["E"], "nu": u["nu"], "cohesion": c,
+                       "friction": phi, "dilation": 0.0, "tensile_strength": s * sci / mb}
     return out
+
+
+def continuum_section(p: scene.CheckerboardParams, h: float) -> dict:
+    """The scene's "continuum" section: mesh size ``h`` (m) and each region's rock mass."""
+    return {"h": float(h), "materials": rock_masses(p)}
+
+
+def continuum_scene(p: scene.CheckerboardParams, h: float, f_max: float = 8.0):
+    """The case's scene with its continuum section and stages (module docstring)."""
+    sc = scene.scene(p, stages=[])
+    flaws = tuple(sorted(n for n in sc.materials if n.startswith("flaw:")))
+    stages = [Gravity(1.0), FactorOfSafety(flaws, f_levels=(1.0, float(f_max)),
+                                           refine_to=F_TOL)]
+    return replace(sc, stages=stages, continuum=continuum_section(p, h))
 
 
 def run_continuum(p: scene.CheckerboardParams, h: float, h_far: float | None = None,
                   f_max: float = 8.0) -> dict:
     """Element size ``h`` (m) within 100 m of the cut's toe and crest, growing linearly to
-    ``h_far`` (default 4 h) 600 m away (``continuum_ref.mesh.refine_near``). Returns
-    {"ucs_MPa", "factor_of_safety", "first_failed", "mechanism", "h", "elements",
-    "runtime_s"}."""
+    ``h_far`` (default 4 h) 600 m away (``continuum_ref.mesh.refine_near``); the scene's
+    regions, boundaries and density, its continuum materials and stages (``continuum_scene``:
+    gravity solved in one Newton step as ``run_scene``'s gravity stage, then its
+    factor-of-safety stage, ``ssr.factor_of_safety`` with ``run_scene``'s first step). Returns
+    {"ucs_MPa", "factor_of_safety" (the last stable F), "first_failed", "mechanism", "h",
+    "elements", "runtime_s"}."""
     from continuum_ref import ssr
     from continuum_ref.from_scene import apply_boundaries, mesh_from_scene, scene_bounds
     from continuum_ref.mesh import refine_near
     from continuum_ref.model import ContinuumModel
+    from continuum_ref.scene_run import check_continuum_stages, region_materials
 
     t0 = time.perf_counter()
-    sc = scene.scene(p, stages=[])
+    sc = continuum_scene(p, h, f_max)
+    gravity, fos_stage = sc.stages
+    mats, fos_mats = region_materials(sc, sc.continuum["materials"])
+    check_continuum_stages(sc, fos_mats)
     h_far = 4.0 * h if h_far is None else h_far
     field = refine_near([scene.TOE, scene.crest(p)], h, h_far, 100.0, 600.0)
-    mesh = mesh_from_scene(sc, h_far, geometry=GeometrySpec(sc.geometry.regions),
-                           size_field=field)
-    masses = rock_masses(p)
-    cm = ContinuumModel(mesh, masses, scene.DENSITY)
+    cm = ContinuumModel(mesh_from_scene(sc, h_far, size_field=field), mats, sc.density)
     apply_boundaries(cm, sc, scene_bounds(sc))
-    cm.set_gravity(1.0)
-    if not cm.equilibrate().converged:
+    if not cm.solve_gravity(gravity.g_level).converged:
         raise RuntimeError("continuum: gravity did not come to equilibrium")
-    res = ssr.factor_of_safety(cm, list(cm.materials), f_max=f_max, first_step=0.25,
-                               tol=0.02)
+    res = ssr.factor_of_safety(cm, list(fos_mats.values()), f_max=max(fos_stage.f_levels),
+                               tol=fos_stage.refine_to)
     return {"ucs_MPa": p.ucs / 1e6, "factor_of_safety": float(res.value),
             "first_failed": None if res.first_failed is None else float(res.first_failed),
             "mechanism": bool(res.mechanism), "h": h,
-            "elements": int(mesh.mesh.topology.index_map(2).size_local),
+            "elements": int(cm.mesh_data.mesh.topology.index_map(2).size_local),
             "runtime_s": time.perf_counter() - t0}

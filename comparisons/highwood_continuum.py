@@ -1,61 +1,92 @@
-"""The continuum column of case ``highwood``: the same section in ``continuum_ref``, the same
-boundaries and in-situ field, its factor of safety by strength reduction.
+"""The continuum column of case ``highwood``: the case's scene (comparisons/scenes/highwood.py,
+the one its DEM runs: its boundaries, points and in-situ field) in ``continuum_ref``, through
+``continuum_ref.scene_run.run_scene``, and its factor of safety by strength reduction.
 
-Equivalent rock mass (**assumption**: the thesis gives no continuum run for this site): an
-isotropic Mohr-Coulomb mass with the intact quartzite's strength of table 5.5 (c 5 MPa,
-friction 30 degrees, T 1.6 MPa), E 20 GPa, nu 0.25, dilation 0 (non-associated), density of
-25 kN/m3. The bedding (c = 0, T = 0 along one direction) cannot enter an isotropic criterion,
-so the continuum has no beds to buckle: its F is the margin of the intact rock mass against a
-shear mechanism, the upper bound the beds' slenderness takes away. Stages: gravity, the
-geostatic field of ratio k from the crest level (``continuum_ref.from_scene.apply_insitu``),
-equilibrium, then F (c, tan(phi) divided by F; ``continuum_ref.ssr.factor_of_safety``).
+Material (``continuum_section``): equivalent rock mass (**assumption**: the thesis gives no
+continuum run for this site): an isotropic Mohr-Coulomb mass with the intact quartzite's
+strength of table 5.5 (c 5 MPa, friction 30 degrees, T 1.6 MPa), E 20 GPa, nu 0.25, dilation 0
+(non-associated), density of 25 kN/m3. The bedding (c = 0, T = 0 along one direction) cannot
+enter an isotropic criterion, so the continuum has no beds to buckle: its F is the margin of
+the intact rock mass against a shear mechanism, the upper bound the beds' slenderness takes
+away.
+
+Geometry: the scene's section as one region (``scene.slope_region``, "rock"), not its beds:
+they are regions only for the DEM (each bed's own contact materials) and all take the one
+material here; meshing their outlines (beds down to 0.4 m) would only crowd the mesh (and
+gmsh refuses the quick variant's beds at h = 6 m: "Could not create line"). The one region
+takes the back rock's flaw material as its contact material, which the continuum does not
+use (a scene names one for every region).
+
+Stages (``continuum_stages``): the continuum's own, not the DEM's (``scene.stages``: strong
+quartzite, gravity, the in-situ field, solved, the real strength by ``change_material``, then
+a ``strength_schedule`` of the quartzite's T; the contact materials' changes do not reach a
+rock mass given by its own entry): the geostatic field of ratio k from the crest level set at
+0 g, gravity (the field equilibrated under it, displacements zeroed), then F (c, tan(phi)
+divided by F; ``FactorOfSafety`` up to ``F_MAX``, resolution ``F_TOL``).
 """
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 
 from comparisons.scenes import highwood as scene
 from dem_core.geometry import GeometrySpec
 from dem_core.workflow.insitu import InSitu
+from dem_core.workflow.stages import FactorOfSafety, Gravity
 
 F_MAX = 20.0
+F_TOL = 0.05         # resolution of the factor of safety
 
 
 def equivalent_rock_mass(p: scene.HighwoodParams) -> dict:
-    """The Mohr-Coulomb properties (SI units) of the module docstring."""
+    """The Mohr-Coulomb strength (SI units) of the module docstring."""
     return {"cohesion": p.flaw_cohesion, "friction": p.flaw_friction,
             "tensile_strength": p.flaw_tensile_strength}
 
 
+def continuum_section(p: scene.HighwoodParams, h: float) -> dict:
+    """The scene's "continuum" section: mesh size ``h`` (m) and the rock mass of the module
+    docstring as a file entry (Pa, degrees)."""
+    rock = {"kind": "mohr_coulomb", "E": p.block_E, "nu": p.block_nu, "dilation": 0.0,
+            **equivalent_rock_mass(p)}
+    return {"h": float(h), "materials": {"rock": rock}}
+
+
+def continuum_stages(p: scene.HighwoodParams) -> list:
+    """The in-situ field at ratio ``p.stress_ratio``, gravity, F (module docstring)."""
+    field = InSitu.geostatic(scene.DENSITY, p.stress_ratio, surface=p.base + p.slope_height)
+    return [field, Gravity(1.0),
+            FactorOfSafety((scene.QUARTZITE,), f_levels=(1.0, F_MAX), refine_to=F_TOL)]
+
+
+def continuum_scene(p: scene.HighwoodParams, h: float):
+    """The case's scene as one region with its continuum section and stages (module
+    docstring)."""
+    sc = scene.scene(p)
+    # a scene names a contact material for each region's flaws; the continuum uses none
+    mats = dict(sc.materials, **{"flaw:rock": sc.materials["flaw:back"]})
+    return replace(sc, geometry=GeometrySpec([scene.slope_region(p)]), materials=mats,
+                   stages=continuum_stages(p), continuum=continuum_section(p, h))
+
+
 def factor_of_safety(p: scene.HighwoodParams, h: float) -> dict:
     """F of the section at stress ratio ``p.stress_ratio`` with a mesh of size ``h`` (m)."""
-    from continuum_ref import ssr
-    from continuum_ref.from_scene import apply_boundaries, apply_insitu, mesh_from_scene, \
-        scene_bounds
-    from continuum_ref.materials import MohrCoulomb
-    from continuum_ref.model import ContinuumModel
+    from continuum_ref.scene_run import run_scene
 
     t0 = time.perf_counter()
-    sc = scene.scene(p)
-    mesh = mesh_from_scene(sc, h, geometry=GeometrySpec([scene.slope_region(p)]))
-    rock = MohrCoulomb(E=p.block_E, nu=p.block_nu, dilation=0.0, **equivalent_rock_mass(p))
-    cm = ContinuumModel(mesh, rock, sc.density)
-    apply_boundaries(cm, sc, scene_bounds(sc))
-    cm.set_gravity(1.0)
-    apply_insitu(cm, sc, InSitu.geostatic(scene.DENSITY, p.stress_ratio,
-                                          surface=p.base + p.slope_height))
-    if not cm.equilibrate().converged:
+    records = run_scene(continuum_scene(p, h))
+    fos = records[-1]
+    if fos.kind != "factor_of_safety":
         return {"stress_ratio": p.stress_ratio, "factor_of_safety": None,
                 "note": "no equilibrium under the in-situ field", "runtime_s":
                 time.perf_counter() - t0}
-    cm.reset_displacement()
-    fos = ssr.factor_of_safety(cm, [rock], f_max=F_MAX, first_step=1.0, tol=0.05)
     # F: the last stable level when the search ended in a mechanism; a non-convergence
     # without one is reported as such (first_failed, no F); None: stood up to F_MAX
     return {"stress_ratio": p.stress_ratio,
-            "factor_of_safety": float(fos.value) if fos.found else None,
-            "last_stable": float(fos.value), "first_failed": fos.first_failed,
-            "mechanism": bool(fos.mechanism), "runtime_s": time.perf_counter() - t0}
+            "factor_of_safety": fos.value if fos.verdict == "limit" else None,
+            "last_stable": float(fos.detail["last_converged"]),
+            "first_failed": fos.first_failed, "mechanism": fos.verdict == "limit",
+            "runtime_s": time.perf_counter() - t0}
 
 
 def run_continuum(params: dict, ratios, h: float) -> dict:

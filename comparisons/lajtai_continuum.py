@@ -14,6 +14,16 @@ tension cut-off 1.1 MPa, E 4.5 GPa (the thesis's block modulus), nu 0.25, associ
   bottom face and the lower part of the left face moved in +x, the upper box the upper part of
   the right face held in x. Peak shear = peak x reaction of the held face / length.
 
+**Written by hand, not from the scenes** (``comparisons.scenes.lajtai``: ``ucs_scene``,
+``shear_scene``) through ``continuum_ref.scene_run.run_scene``: both tests are loading paths,
+a prescribed platen displacement with the top reaction read at each increment (UCS) and a
+normal load held constant while the lower box is displaced (shear). The scenes' paths are
+``load`` and ``servo`` stages on the platens and boxes (``comparisons.lab``), which
+``run_scene`` refuses (they act on blocks), and it has no stage that prescribes a displacement
+or reads a reaction; the shear scene's fixed group (the lower box, a region) is not made of box
+sides, which the continuum's boundaries need. The meshes here are the specimens' own
+rectangles (and the loading plate of the shear test).
+
 Units SI; reported in MPa.
 """
 from __future__ import annotations
