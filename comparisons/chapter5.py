@@ -99,32 +99,48 @@ def moving_blocks(run: dict, fraction: float = 0.2, min_motion: float = 0.02) ->
             "n": int(keep.sum()), "largest": largest}
 
 
-def continuum_fos(sc, regions, materials: dict, density: float, h: float, f_max: float = 6.0,
-                  f_start: float = 1.0):
-    """Strength-reduction factor of safety (``continuum_ref.ssr.factor_of_safety``) of the
-    scene's section meshed without joints (``regions``: the scene's Regions; ``materials``:
-    region name -> continuum material), under gravity with the scene's boundaries. Returns a
-    dict: ``factor_of_safety`` (None without a mechanism up to ``f_max``), ``first_failed``,
-    ``mechanism``, ``runtime_s``."""
-    from continuum_ref import ssr
-    from continuum_ref.from_scene import apply_boundaries, mesh_from_scene, scene_bounds
-    from continuum_ref.model import ContinuumModel
-    from dem_core.geometry import GeometrySpec
+def continuum_scene(sc, regions, materials: dict, h: float, f_max: float = 6.0,
+                    f_start: float = 1.0):
+    """The continuum of a chapter-5 slope: the scene ``sc`` with its section ``regions`` only
+    (the scene's Regions, meshed without joints), the continuum section (``materials``:
+    region name -> ``continuum_ref`` material, as file entries; mesh size ``h`` m) and the
+    stages gravity at 1 g, then the strength-reduction factor of safety from ``f_start`` to
+    ``f_max`` (resolution 0.02)."""
+    from dataclasses import replace
 
+    from continuum_ref.scene_run import material_entry
+    from dem_core.geometry import GeometrySpec
+    from dem_core.workflow.stages import FactorOfSafety
+
+    return replace(sc, geometry=GeometrySpec(list(regions)),
+                   # (the continuum reduces its own materials: the stage's are the DEM's)
+                   stages=[Gravity(1.0), FactorOfSafety(tuple(sc.materials),
+                                                        f_levels=(f_start, f_max),
+                                                        refine_to=0.02)],
+                   continuum={"h": float(h), "materials": {
+                       k: material_entry(m) for k, m in materials.items()}})
+
+
+def continuum_fos(sc, density: float):
+    """The strength-reduction factor of safety of a ``continuum_scene`` ``sc`` (the section
+    meshed without joints, under gravity with the scene's boundaries) through
+    ``continuum_ref.scene_run.run_scene`` (``density`` must be the scene's). Returns a dict:
+    ``factor_of_safety`` (None without a mechanism up to the stage's last level),
+    ``last_converged``, ``first_failed``, ``mechanism``, ``runtime_s`` (meshing included)."""
+    from continuum_ref.scene_run import run_scene
+
+    if density != sc.density:
+        raise ValueError(f"density {density} is not the scene's {sc.density} (kg/m^3)")
     t0 = time.perf_counter()
-    cm = ContinuumModel(mesh_from_scene(sc, h, geometry=GeometrySpec(list(regions))),
-                        dict(materials), density)
-    apply_boundaries(cm, sc, scene_bounds(sc))
-    cm.set_gravity(1.0)
-    start = cm.equilibrate()
-    if not start.converged:
-        return {"factor_of_safety": None, "first_failed": f_start, "mechanism": False,
+    records = run_scene(sc)
+    fos = records[-1]
+    if fos.kind != "factor_of_safety":
+        return {"factor_of_safety": None, "first_failed": 1.0, "mechanism": False,
                 "note": "no equilibrium under gravity at F = 1",
                 "runtime_s": time.perf_counter() - t0}
-    fos = ssr.factor_of_safety(cm, list(cm.materials), f_max=f_max, f_start=f_start,
-                               first_step=0.25, tol=0.02)
-    return {"factor_of_safety": float(fos.value) if fos.found else None,
-            "last_converged": float(fos.value),
-            "first_failed": None if fos.first_failed is None else float(fos.first_failed),
-            "mechanism": bool(fos.mechanism), "runtime_s": time.perf_counter() - t0}
+    last = fos.detail.get("last_converged")
+    return {"factor_of_safety": fos.value if fos.verdict == "limit" else None,
+            "last_converged": None if last is None else float(last),
+            "first_failed": fos.first_failed, "mechanism": fos.verdict == "limit",
+            "runtime_s": time.perf_counter() - t0}
 

@@ -110,16 +110,25 @@ def equivalent_rock_mass(p: scene.CoalBucklingParams, tensile: float) -> dict:
             "tensile_strength": tensile}
 
 
-def run_continuum(v: dict, tensile: float) -> dict:
+def continuum_scene(v: dict, tensile: float):
+    """The case's scene as its continuum runs it (``chapter5.continuum_scene``): the layer of
+    ``equivalent_rock_mass`` (dilation 0), the footwall and floor elastic, E and nu of the
+    blocks."""
     from continuum_ref.materials import Elastic, MohrCoulomb
 
     p = scene.CoalBucklingParams()
-    mass = equivalent_rock_mass(p, tensile)
-    layer = MohrCoulomb(E=p.block_E, nu=p.block_nu, dilation=0.0, **mass)
+    layer = MohrCoulomb(E=p.block_E, nu=p.block_nu, dilation=0.0,
+                        **equivalent_rock_mass(p, tensile))
     rock = Elastic(E=p.block_E, nu=p.block_nu)
-    out = chapter5.continuum_fos(scene.scene(p), scene.regions(p),
-                                 {"footwall": rock, "floor": rock, "layer": layer},
-                                 p.density, v["continuum_h"])
+    return chapter5.continuum_scene(scene.scene(p), scene.regions(p),
+                                    {"footwall": rock, "floor": rock, "layer": layer},
+                                    v["continuum_h"])
+
+
+def run_continuum(v: dict, tensile: float) -> dict:
+    p = scene.CoalBucklingParams()
+    mass = equivalent_rock_mass(p, tensile)
+    out = chapter5.continuum_fos(continuum_scene(v, tensile), p.density)
     out["material"] = (f"layer Mohr-Coulomb c {mass['cohesion'] / 1e6:.2f} MPa, friction "
                        f"{mass['friction']:.0f}, T {tensile / KPA:.0f} kPa, dilation 0; "
                        f"footwall and floor elastic E {p.block_E / 1e9:.0f} GPa; basal plane "

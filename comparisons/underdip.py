@@ -123,14 +123,22 @@ def equivalent_rock_mass(p: scene.UnderdipParams, tensile: float) -> dict:
             "tensile_strength": tensile}
 
 
-def run_continuum(v: dict, tensile: float) -> dict:
+def continuum_scene(v: dict, tensile: float):
+    """The case's scene as its continuum runs it (``chapter5.continuum_scene``): the section
+    (``slope_region``) of ``equivalent_rock_mass``, E and nu of the blocks, dilation 0."""
     from continuum_ref.materials import MohrCoulomb
 
     p = scene.UnderdipParams()
+    mc = MohrCoulomb(E=p.block_E, nu=p.block_nu, dilation=0.0,
+                     **equivalent_rock_mass(p, tensile))
+    return chapter5.continuum_scene(scene.scene(p), [scene.slope_region(p)], {"rock": mc},
+                                    v["continuum_h"])
+
+
+def run_continuum(v: dict, tensile: float) -> dict:
+    p = scene.UnderdipParams()
     mass = equivalent_rock_mass(p, tensile)
-    mc = MohrCoulomb(E=p.block_E, nu=p.block_nu, dilation=0.0, **mass)
-    out = chapter5.continuum_fos(scene.scene(p), [scene.slope_region(p)], {"rock": mc},
-                                 p.density, v["continuum_h"])
+    out = chapter5.continuum_fos(continuum_scene(v, tensile), p.density)
     out["material"] = (f"Mohr-Coulomb c {mass['cohesion'] / 1e6:.2f} MPa, friction "
                        f"{mass['friction']:.0f}, T {tensile / KPA:.0f} kPa, dilation 0, "
                        f"E {p.block_E / 1e9:.0f} GPa; h {v['continuum_h']} m")

@@ -50,6 +50,7 @@ import numpy as np
 from .materials import Elastic, HoekBrown, MohrCoulomb
 
 __all__ = ["run_scene", "build_continuum", "region_materials", "material_from_dict",
+           "material_entry",
            "check_continuum_stages", "check_boundaries", "ContinuumStageRecord", "CONTINUUM_STAGES",
            "max_displacement"]
 
@@ -114,6 +115,18 @@ def material_from_dict(d: dict):
                         a=d["a"])
     fos = None if s3max is None else mat.equivalent_mohr_coulomb(float(s3max), dilation)
     return mat, fos
+
+
+def material_entry(material) -> dict:
+    """The scene-file entry of a continuum material (``material_from_dict``'s inverse for
+    Elastic and MohrCoulomb): {"kind": ..., its fields}."""
+    import dataclasses
+
+    kinds = {Elastic: "elastic", MohrCoulomb: "mohr_coulomb"}
+    if type(material) not in kinds:
+        raise ValueError(f"no scene-file entry for a {type(material).__name__}; give Elastic "
+                         f"or MohrCoulomb, or write the entry (kinds: docs/scenes.md)")
+    return {"kind": kinds[type(material)], **dataclasses.asdict(material)}
 
 
 def region_materials(scene, spec) -> tuple:

@@ -6,9 +6,9 @@ are written by hand (comparisons/lajtai_continuum.py says why)."""
 import pytest
 
 from comparisons import (adhikary, adhikary_continuum, checkerboard, checkerboard_continuum,
-                         common_toppling, common_toppling_continuum, highwood,
+                         coal_buckling, common_toppling, common_toppling_continuum, highwood,
                          highwood_continuum, longtan, longtan_continuum, lornex,
-                         lornex_continuum)
+                         lornex_continuum, underdip)
 from comparisons.scenes import checkerboard as checkerboard_scene
 from comparisons.scenes import lornex as lornex_scene
 from continuum_ref import hoek_brown as hb
@@ -18,7 +18,8 @@ from dem_core.workflow.stages import stage_to_dict
 
 
 CASES = {"adhikary": adhikary, "longtan": longtan, "checkerboard": checkerboard,
-         "common_toppling": common_toppling, "highwood": highwood, "lornex": lornex}
+         "common_toppling": common_toppling, "highwood": highwood, "lornex": lornex,
+         "underdip": underdip, "coal_buckling": coal_buckling}
 
 
 def _quick(case):
@@ -58,13 +59,24 @@ def _lornex():
                                             v["continuum_h"])
 
 
+def _underdip():
+    return underdip.continuum_scene(_quick(underdip), 0.0)
+
+
+def _coal_buckling():
+    return coal_buckling.continuum_scene(_quick(coal_buckling), 0.0)
+
+
 SCENES = {"adhikary": _adhikary, "longtan": _longtan, "checkerboard": _checkerboard,
-          "common_toppling": _common_toppling, "highwood": _highwood, "lornex": _lornex}
+          "common_toppling": _common_toppling, "highwood": _highwood, "lornex": _lornex,
+          "underdip": _underdip, "coal_buckling": _coal_buckling}
 STAGES = {"adhikary": ["gravity", "raise_gravity"], "longtan": ["gravity", "raise_gravity"],
           "checkerboard": ["gravity", "factor_of_safety"],
           "common_toppling": ["gravity"] + ["excavate"] * 12 + ["factor_of_safety"],
           "highwood": ["insitu", "gravity", "factor_of_safety"],
-          "lornex": ["insitu", "gravity", "water"] + ["excavate"] * 15}
+          "lornex": ["insitu", "gravity", "water"] + ["excavate"] * 15,
+          "underdip": ["gravity", "factor_of_safety"],
+          "coal_buckling": ["gravity", "factor_of_safety"]}
 
 
 @pytest.mark.parametrize("case", sorted(SCENES))
