@@ -21,11 +21,10 @@ excavation): gravity to equilibrium, then the factor of safety (``FactorOfSafety
 by its own entry, and the water is left out as before (the table lies below the weathered
 zone).
 
-**Run by hand, not by** ``continuum_ref.scene_run.run_scene``: the mesh is graded, h within
-100 m of the cut's toe and crest growing to 4 h, and ``run_scene`` meshes at one size. At a
-uniform 20 m (the quick variant's h) F moves by 1-2 % and the searches end without a mechanism
-(docs/comparisons.md, "Continuum columns from the scene files"). The run does what
-``run_scene`` does with these two stages, from the same scene.
+The mesh is graded (the section's ``refine``): h within 100 m of the cut's toe and crest,
+growing linearly to 4 h 600 m away; at a uniform 20 m (the quick variant's h) F moves by 1-2 %
+and the searches end without a mechanism (docs/comparisons.md, "Continuum columns from the
+scene files"). Run by ``continuum_ref.scene_run.run_scene``.
 """
 from __future__ import annotations
 
@@ -53,50 +52,42 @@ def rock_masses(p: scene.CheckerboardParams) -> dict:
     return out
 
 
-def continuum_section(p: scene.CheckerboardParams, h: float) -> dict:
-    """The scene's "continuum" section: mesh size ``h`` (m) and each region's rock mass."""
-    return {"h": float(h), "materials": rock_masses(p)}
+def continuum_section(p: scene.CheckerboardParams, h: float, h_far: float | None = None) -> dict:
+    """The scene's "continuum" section: mesh size ``h`` (m) within 100 m of the cut's toe and
+    crest, growing to ``h_far`` (default 4 h) 600 m away, and each region's rock mass."""
+    return {"h": float(h), "materials": rock_masses(p),
+            "refine": {"points": [list(map(float, scene.TOE)),
+                                  list(map(float, scene.crest(p)))],
+                       "h_far": float(4.0 * h if h_far is None else h_far),
+                       "d_near": 100.0, "d_far": 600.0}}
 
 
-def continuum_scene(p: scene.CheckerboardParams, h: float, f_max: float = 8.0):
+def continuum_scene(p: scene.CheckerboardParams, h: float, f_max: float = 8.0,
+                    h_far: float | None = None):
     """The case's scene with its continuum section and stages (module docstring)."""
     sc = scene.scene(p, stages=[])
     flaws = tuple(sorted(n for n in sc.materials if n.startswith("flaw:")))
     stages = [Gravity(1.0), FactorOfSafety(flaws, f_levels=(1.0, float(f_max)),
                                            refine_to=F_TOL)]
-    return replace(sc, stages=stages, continuum=continuum_section(p, h))
+    return replace(sc, stages=stages, continuum=continuum_section(p, h, h_far))
 
 
 def run_continuum(p: scene.CheckerboardParams, h: float, h_far: float | None = None,
                   f_max: float = 8.0) -> dict:
-    """Element size ``h`` (m) within 100 m of the cut's toe and crest, growing linearly to
-    ``h_far`` (default 4 h) 600 m away (``continuum_ref.mesh.refine_near``); the scene's
-    regions, boundaries and density, its continuum materials and stages (``continuum_scene``:
-    gravity solved in one Newton step as ``run_scene``'s gravity stage, then its
-    factor-of-safety stage, ``ssr.factor_of_safety`` with ``run_scene``'s first step). Returns
-    {"ucs_MPa", "factor_of_safety" (the last stable F), "first_failed", "mechanism", "h",
-    "elements", "runtime_s"}."""
-    from continuum_ref import ssr
-    from continuum_ref.from_scene import apply_boundaries, mesh_from_scene, scene_bounds
-    from continuum_ref.mesh import refine_near
-    from continuum_ref.model import ContinuumModel
-    from continuum_ref.scene_run import check_continuum_stages, region_materials
+    """The factor of safety of ``continuum_scene`` by ``continuum_ref.scene_run.run_scene``.
+    Returns {"ucs_MPa", "factor_of_safety" (the last stable F), "first_failed", "mechanism",
+    "h", "elements", "runtime_s"}."""
+    from continuum_ref.scene_run import run_scene
 
     t0 = time.perf_counter()
-    sc = continuum_scene(p, h, f_max)
-    gravity, fos_stage = sc.stages
-    mats, fos_mats = region_materials(sc, sc.continuum["materials"])
-    check_continuum_stages(sc, fos_mats)
-    h_far = 4.0 * h if h_far is None else h_far
-    field = refine_near([scene.TOE, scene.crest(p)], h, h_far, 100.0, 600.0)
-    cm = ContinuumModel(mesh_from_scene(sc, h_far, size_field=field), mats, sc.density)
-    apply_boundaries(cm, sc, scene_bounds(sc))
-    if not cm.solve_gravity(gravity.g_level).converged:
-        raise RuntimeError("continuum: gravity did not come to equilibrium")
-    res = ssr.factor_of_safety(cm, list(fos_mats.values()), f_max=max(fos_stage.f_levels),
-                               tol=fos_stage.refine_to)
-    return {"ucs_MPa": p.ucs / 1e6, "factor_of_safety": float(res.value),
-            "first_failed": None if res.first_failed is None else float(res.first_failed),
-            "mechanism": bool(res.mechanism), "h": h,
-            "elements": int(cm.mesh_data.mesh.topology.index_map(2).size_local),
+    seen = {}
+    records = run_scene(continuum_scene(p, h, f_max, h_far),
+                        on_stage=lambda model, rec: seen.update(model=model))
+    fos = records[-1]
+    if fos.kind != "factor_of_safety":
+        raise RuntimeError(f"continuum: stage {fos.index} ({fos.kind}) {fos.verdict}: {fos.note}")
+    mesh = seen["model"].mesh_data.mesh
+    return {"ucs_MPa": p.ucs / 1e6, "factor_of_safety": float(fos.detail["last_converged"]),
+            "first_failed": fos.first_failed, "mechanism": fos.verdict == "limit", "h": h,
+            "elements": int(mesh.topology.index_map(2).size_local),
             "runtime_s": time.perf_counter() - t0}

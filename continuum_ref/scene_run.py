@@ -284,12 +284,21 @@ def _check_material_stage(scene, st, where, spec) -> None:
 # ---------------------------------------------------------------------- running
 def build_continuum(scene, h, materials):
     """The ContinuumModel of ``scene`` at mesh size ``h`` (m) with ``materials`` ({region:
-    material}): mesh with the scene's points, density ``scene.density`` (kg/m^3), the scene's
-    boundaries (``from_scene.apply_boundaries``)."""
+    material}): mesh with the scene's points (graded from h to the section's ``refine``
+    h_far when it has one: ``mesh.refine_near``), density ``scene.density`` (kg/m^3), the
+    scene's boundaries (``from_scene.apply_boundaries``)."""
     from .from_scene import apply_boundaries, mesh_from_scene, scene_bounds
+    from .mesh import refine_near
     from .model import ContinuumModel
 
-    model = ContinuumModel(mesh_from_scene(scene, h), dict(materials), scene.density)
+    refine = (scene.continuum or {}).get("refine")
+    if refine:
+        field = refine_near(refine["points"], h, refine["h_far"], refine["d_near"],
+                            refine["d_far"])
+        mesh = mesh_from_scene(scene, refine["h_far"], size_field=field)
+    else:
+        mesh = mesh_from_scene(scene, h)
+    model = ContinuumModel(mesh, dict(materials), scene.density)
     apply_boundaries(model, scene, scene_bounds(scene))
     return model
 

@@ -263,3 +263,25 @@ def test_a_material_change_derives_the_rock_mass_again_and_one_that_reaches_none
     plain = cut_scene([Gravity(1.0), ChangeMaterial("*", {"friction": 30.0})])
     with pytest.raises(ValueError, match="dem_rock_mass"):
         scene_run.run_scene(plain)
+
+
+def test_a_graded_mesh_is_finer_near_its_points_and_a_bad_one_is_named():
+    from continuum_ref.scene_run import build_continuum, region_materials
+
+    refine = {"points": [[CREST, HEIGHT]], "h_far": 5.0, "d_near": 3.0, "d_far": 20.0}
+    graded = cut_scene([Gravity(1.0)])
+    graded = Scene.from_dict(dict(graded.to_dict(), continuum={**graded.continuum,
+                                                              "h": 1.0, "refine": refine}))
+    plain = cut_scene([Gravity(1.0)])
+    cells = []
+    for sc, h in ((graded, 1.0), (plain, 1.0), (plain, 5.0)):
+        mats, _ = region_materials(sc, sc.continuum["materials"])
+        cells.append(len(build_continuum(sc, h, mats).triangles()[1]))
+    assert cells[2] < cells[0] < cells[1] / 3       # between the uniform 5 m and 1 m meshes
+    for bad, words in ((dict(refine, h_far=0.5), "h_far 0.5 must be at least h"),
+                       (dict(refine, d_near=30.0), "needs 0 <= d_near < d_far"),
+                       (dict(refine, points=[[1.0]]), "points must be a list of"),
+                       ({"h_far": 5.0}, "refine")):
+        with pytest.raises(ValueError, match=words):
+            Scene.from_dict(dict(plain.to_dict(), continuum={**plain.continuum, "h": 1.0,
+                                                             "refine": bad}))

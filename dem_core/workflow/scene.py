@@ -56,7 +56,10 @@ SOLVER_KEYS = set(SCENE_SOLVER_KEYS)
 # The optional "continuum" section (``check_continuum``): mesh size h (m), the rock-mass
 # material of each region (name or fnmatch pattern -> {"kind": ..., fields}) and the flow rule
 # of a factor of safety (``continuum_ref.ssr``); ``continuum_ref.scene_run`` runs it.
-CONTINUUM_KEYS = ("h", "materials", "flow")
+CONTINUUM_KEYS = ("h", "materials", "flow", "refine")
+# "refine" (optional): a graded mesh, h within d_near (m) of any of the points [[x, y], ...],
+# growing linearly to h_far (m) at d_far (continuum_ref.mesh.refine_near)
+REFINE_KEYS = ("points", "h_far", "d_near", "d_far")
 CONTINUUM_FLOWS = ("native", "davis")
 # kind -> (fields it takes, fields it needs); units: E, cohesion, tensile_strength, sci,
 # sigma3_max Pa; friction, dilation degrees; h m. A Hoek-Brown rock mass is given by gsi, mi
@@ -98,7 +101,9 @@ class Scene:
     ``stages.run_stages``) or "continue". continuum : what the continuum needs to run the
     scene (``continuum_ref.scene_run``): {"h": mesh size (m), "materials": {region name or
     pattern: {"kind": "elastic", "mohr_coulomb", "hoek_brown" or "dem_rock_mass", fields}},
-    "flow": "native" or "davis"} (``check_continuum``, docs/scenes.md); None: DEM only.
+    "flow": "native" or "davis", optionally "refine": {"points": [[x, y], ...], "h_far",
+    "d_near", "d_far"} for a mesh graded from h near the points to h_far} (``check_continuum``,
+    docs/scenes.md); None: DEM only.
     """
 
     geometry: GeometrySpec
@@ -396,6 +401,8 @@ def check_continuum(section, regions) -> None:
     if section.get("flow", "native") not in CONTINUUM_FLOWS:
         raise ValueError(f"continuum: flow must be one of {CONTINUUM_FLOWS}, got "
                          f"{section['flow']!r}")
+    if section.get("refine") is not None:
+        _check_refine(section["refine"], float(section["h"]))
     mats = section["materials"]
     if not isinstance(mats, dict) or not mats:
         raise ValueError(f"continuum: materials must be a mapping region (or pattern) -> "
@@ -425,6 +432,28 @@ def check_continuum(section, regions) -> None:
         if not any(fnmatch.fnmatchcase(r, key) for key in mats):
             raise ValueError(f"continuum: region {r!r} has no material (materials: "
                              f"{sorted(mats)})")
+
+
+def _check_refine(refine, h) -> None:
+    """The continuum's graded mesh (``REFINE_KEYS``): points a non-empty list of [x, y] (m),
+    h_far >= h, 0 <= d_near < d_far (m)."""
+    where = "continuum: refine"
+    if not isinstance(refine, dict):
+        raise ValueError(f"{where} must be a mapping with {REFINE_KEYS}, got {refine!r}"[:300])
+    check_keys(refine, REFINE_KEYS, where, required=REFINE_KEYS)
+    pts = refine["points"]
+    if not (isinstance(pts, list) and pts and all(
+            isinstance(q, (list, tuple)) and len(q) == 2
+            and all(_number(v) and math.isfinite(v) for v in q) for q in pts)):
+        raise ValueError(f"{where}: points must be a list of [x, y] (m), got {pts!r}"[:300])
+    for k in ("h_far", "d_near", "d_far"):
+        if not (_number(refine[k]) and math.isfinite(refine[k])):
+            raise ValueError(f"{where}: {k} must be a number, got {refine[k]!r}")
+    if not refine["h_far"] >= h:
+        raise ValueError(f"{where}: h_far {refine['h_far']!r} must be at least h = {h} m")
+    if not 0.0 <= refine["d_near"] < refine["d_far"]:
+        raise ValueError(f"{where}: needs 0 <= d_near < d_far (m), got d_near "
+                         f"{refine['d_near']!r}, d_far {refine['d_far']!r}")
 
 
 # ---------------------------------------------------------------------- helpers
