@@ -87,10 +87,16 @@ def run_continuum(scene, folder, path, progress=None, dem=None):
     return records, error
 
 
+def value_words(r) -> str:
+    """" F = 1.23", " g = 45.6" or " value = 1.2e+06" (a strength schedule's property) of a
+    continuum stage with a value, else ""."""
+    name = {"factor_of_safety": "F", "raise_gravity": "g"}.get(r.kind, "value")
+    return "" if r.value is None else f" {name} = {r.value:.4g}"
+
+
 def continuum_line(r) -> str:
-    """One line of a continuum stage: kind, verdict, F or g, max |u| (mm), seconds."""
-    value = "" if r.value is None else f" {'F' if r.kind == 'factor_of_safety' else 'g'} = " \
-                                       f"{r.value:.4g}"
+    """One line of a continuum stage: kind, verdict, its value, max |u| (mm), seconds."""
+    value = value_words(r)
     return (f"stage {r.index} {r.kind}: {r.verdict}{value}, max |u| "
             f"{1e3 * r.max_displacement:.3g} mm, {r.seconds:.1f} s")
 
@@ -157,9 +163,7 @@ def _draw(scene, folder, model, r) -> None:
 
     from continuum_ref.plot import stage_figure
 
-    value = "" if r.value is None else (
-        f" {'F' if r.kind == 'factor_of_safety' else r.kind == 'raise_gravity' and 'g' or 'value'}"
-        f" = {r.value:.4g}")
+    value = value_words(r)
     state = (" (state drawn: the last converged level)" if r.kind in
              ("factor_of_safety", "raise_gravity", "strength_schedule") else "")
     fig = stage_figure(model, f"{scene.name}, continuum: end of stage {r.index} of "
