@@ -137,18 +137,14 @@ def region_materials(scene, spec) -> tuple:
     ValueError naming a region without one, or a bad entry."""
     mats, fos = {}, {}
     for r in scene.geometry.regions:
-        key = r.name if r.name in spec else next(
-            (k for k in spec if fnmatch.fnmatchcase(r.name, k)), None)
+        key = _key(r.name, spec)
         if key is None:
             raise ValueError(f"continuum: region {r.name!r} has no material "
                              f"(materials: {sorted(spec)})")
         entry = spec[key]
         try:
-            if isinstance(entry, dict) and entry.get("kind") == "dem_rock_mass":
-                from .rock_mass import dem_rock_mass
-                mat = dem_rock_mass(scene, r.name, entry["bound"],
-                                    float(entry.get("dilation") or 0.0))
-                entry = mat
+            if _is_derived(entry):
+                entry = _derive(scene, r.name, entry, scene.materials)
             mats[r.name], fos[r.name] = (material_from_dict(entry) if isinstance(entry, dict)
                                          else (entry, entry))
         except (ValueError, TypeError, KeyError) as e:
@@ -161,17 +157,27 @@ def region_materials(scene, spec) -> tuple:
 def derived_materials(scene, spec, contact_materials) -> dict:
     """{region: material} of the regions whose ``spec`` entry is a ``dem_rock_mass``, derived
     from ``contact_materials`` (name or pattern -> ``Material``)."""
+    entries = {r.name: spec.get(_key(r.name, spec)) for r in scene.geometry.regions}
+    return {name: _derive(scene, name, entry, contact_materials)
+            for name, entry in entries.items() if _is_derived(entry)}
+
+
+def _key(region, spec):
+    """The ``spec`` key of ``region``: its own name, else the first pattern matching it."""
+    return region if region in spec else next(
+        (k for k in spec if fnmatch.fnmatchcase(region, k)), None)
+
+
+def _is_derived(entry) -> bool:
+    return isinstance(entry, dict) and entry.get("kind") == "dem_rock_mass"
+
+
+def _derive(scene, region, entry, contact_materials):
+    """The rock mass of a ``dem_rock_mass`` ``entry`` (``rock_mass.dem_rock_mass``)."""
     from .rock_mass import dem_rock_mass
 
-    out = {}
-    for r in scene.geometry.regions:
-        key = r.name if r.name in spec else next(
-            (k for k in spec if fnmatch.fnmatchcase(r.name, k)), None)
-        entry = spec.get(key)
-        if isinstance(entry, dict) and entry.get("kind") == "dem_rock_mass":
-            out[r.name] = dem_rock_mass(scene, r.name, entry["bound"],
-                                        float(entry.get("dilation") or 0.0), contact_materials)
-    return out
+    return dem_rock_mass(scene, region, entry["bound"], float(entry.get("dilation") or 0.0),
+                         contact_materials)
 
 
 def changed_materials(scene, material, changes, contact_materials=None, spec=None) -> tuple:
