@@ -121,16 +121,14 @@ def continuum_scene(sc, regions, materials: dict, h: float, f_max: float = 6.0,
                        k: material_entry(m) for k, m in materials.items()}})
 
 
-def continuum_fos(sc, density: float):
+def continuum_fos(sc):
     """The strength-reduction factor of safety of a ``continuum_scene`` ``sc`` (the section
     meshed without joints, under gravity with the scene's boundaries) through
-    ``continuum_ref.scene_run.run_scene`` (``density`` must be the scene's). Returns a dict:
+    ``continuum_ref.scene_run.run_scene``. Returns a dict:
     ``factor_of_safety`` (None without a mechanism up to the stage's last level),
     ``last_converged``, ``first_failed``, ``mechanism``, ``runtime_s`` (meshing included)."""
     from continuum_ref.scene_run import run_scene
 
-    if density != sc.density:
-        raise ValueError(f"density {density} is not the scene's {sc.density} (kg/m^3)")
     t0 = time.perf_counter()
     records = run_scene(sc)
     fos = records[-1]

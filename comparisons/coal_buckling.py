@@ -128,7 +128,7 @@ def continuum_scene(v: dict, tensile: float):
 def run_continuum(v: dict, tensile: float) -> dict:
     p = scene.CoalBucklingParams()
     mass = equivalent_rock_mass(p, tensile)
-    out = chapter5.continuum_fos(continuum_scene(v, tensile), p.density)
+    out = chapter5.continuum_fos(continuum_scene(v, tensile))
     out["material"] = (f"layer Mohr-Coulomb c {mass['cohesion'] / 1e6:.2f} MPa, friction "
                        f"{mass['friction']:.0f}, T {tensile / KPA:.0f} kPa, dilation 0; "
                        f"footwall and floor elastic E {p.block_E / 1e9:.0f} GPa; basal plane "

@@ -138,7 +138,7 @@ def continuum_scene(v: dict, tensile: float):
 def run_continuum(v: dict, tensile: float) -> dict:
     p = scene.UnderdipParams()
     mass = equivalent_rock_mass(p, tensile)
-    out = chapter5.continuum_fos(continuum_scene(v, tensile), p.density)
+    out = chapter5.continuum_fos(continuum_scene(v, tensile))
     out["material"] = (f"Mohr-Coulomb c {mass['cohesion'] / 1e6:.2f} MPa, friction "
                        f"{mass['friction']:.0f}, T {tensile / KPA:.0f} kPa, dilation 0, "
                        f"E {p.block_E / 1e9:.0f} GPa; h {v['continuum_h']} m")
