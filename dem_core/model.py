@@ -35,7 +35,7 @@ from .jit_cache import compiled, first_run_notice
 from .output import energy, io, monitor
 from .settings import (SolverOptions, SolveSettings, material_names, new_contact_material,
                        per_block, search_margin)
-from .step import run as stepper
+from .step import relaxation, run as stepper
 from .step.state import CrackLog, Integrator, block_props, state_at_rest
 from .step.threads import parallel
 from .step.timestep import choose_timestep
@@ -87,7 +87,7 @@ class Model:
         self.zone_state = zone_setup.zone_bundle(blocks, self.props, sizes,
                                                  (self.block_E, self.block_nu), strengths,
                                                  self.group)
-        self.kinetic = np.zeros(3)             # Integrator.kinetic: kinetic-damping memory
+        self.kinetic = np.zeros(7)             # Integrator.kinetic: kinetic-damping memory
         self.energy_bank = np.zeros(len(energy.BANK))   # output.energy: dropped work, origin
         self.search_enabled = True
         self.response_steps = None             # N_r, steps (workflow.response), once measured
@@ -143,7 +143,7 @@ class Model:
     def integrator(self) -> Integrator:
         half = 0.5 * self.search_margin if self.search_enabled else math.inf
         return Integrator(float(self.dt), self.damping, half, self.kinetic_damping, self.kinetic,
-                          self.edge_elements)
+                          self.edge_elements, self.kinetic_adaptive)
 
     def threads_bundle(self, parts) -> parallel.Parallel:
         """Scratch and the block -> contact table of the threaded step (empty: serial)."""
@@ -312,6 +312,20 @@ class Model:
     def point_motion(self, name):
         """(ux, uy, vx, vy) of a history point now, m and m/s (``monitor.point_motion``)."""
         return monitor.point_motion(self.world(), self.points[name])
+
+    def kinetic_stops(self) -> dict:
+        """Kinetic-damping stops so far: ``stops``, ``late`` (after the peak: the checks were
+        too sparse for the motion, ``step.relaxation``) and ``every`` (the check interval
+        now, steps)."""
+        k = self.kinetic
+        every = k[relaxation.EVERY] if k[relaxation.EVERY] > 0 else self.kinetic_damping
+        return {"stops": int(k[relaxation.STOPS]), "late": int(k[relaxation.LATE_STOPS]),
+                "every": int(every)}
+
+    def restart_kinetic_interval(self):
+        """Check the kinetic energy every ``kinetic_damping`` steps again (a new load step:
+        ``workflow.solve`` calls it; ``step.relaxation``)."""
+        self.kinetic[relaxation.EVERY] = 0.0
 
     def unbalanced_ratio(self) -> float:
         """The unbalanced-force ratio of blocks, zones and support (``monitor.model_ratio``)."""

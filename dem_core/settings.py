@@ -54,6 +54,9 @@ class SolverOptions:
         bits, docs/performance.md "Two threads").
     kinetic_damping : every that many steps (0: off) the free velocities are zeroed at a
         kinetic-energy peak (dynamic relaxation, ``step.relaxation``).
+    kinetic_adaptive : a kinetic-damping stop that came late (after the peak, between two
+        checks) halves the check interval, down to 1 step, until the next solve; False: the
+        interval stays ``kinetic_damping`` (the rule before 2026-11-30).
     edge_elements : the two contacts of a shared edge act as one linear interface element
         (``contact.forces.edge_correction``): the exact bending of a bonded edge.
     rounding : corner rounding radius d, m (0: sharp corners; ``contact.rounding``).
@@ -79,6 +82,7 @@ class SolverOptions:
     history_every: int = 100
     threads: int = 1
     kinetic_damping: int = 0
+    kinetic_adaptive: bool = True
     edge_elements: bool = False
     rounding: float = 0.0
     divide_interfaces: bool = False
@@ -113,6 +117,9 @@ class SolverOptions:
         if not (_whole(self.kinetic_damping) and self.kinetic_damping >= 0):
             raise ValueError(f"kinetic_damping must be a step interval >= 0 (0: off), got "
                              f"{self.kinetic_damping!r}")
+        if not isinstance(self.kinetic_adaptive, bool):
+            raise ValueError(f"kinetic_adaptive must be true or false, got "
+                             f"{self.kinetic_adaptive!r}")
         if not isinstance(self.divide_interfaces, bool):
             raise ValueError(f"divide_interfaces must be true or false, got "
                              f"{self.divide_interfaces!r}")

@@ -91,6 +91,7 @@ def test_a_saved_model_carries_the_format_and_resumes_bit_for_bit(tmp_path):
 
 def test_a_format_1_file_is_converted_and_resumes_bit_for_bit(tmp_path):
     m = column()
+    m.set_options(kinetic_adaptive=False)       # an old file's model checked at fixed intervals
     m.save(tmp_path / "old.npz")
     rewrite_meta(tmp_path / "old.npz", as_format_1, old_controls(m))
     back = Model.load(tmp_path / "old.npz")
@@ -103,6 +104,7 @@ def test_a_format_2_file_is_converted_and_resumes_bit_for_bit_with_support(tmp_p
     """Format 2 kept the support's and the zones' clocks (``control``); format 3 leaves them
     in the file: the step gives every node its dt, damping, time and gravity."""
     m = bolted_column()
+    m.set_options(kinetic_adaptive=False)
     m.save(tmp_path / "old.npz")
     rewrite_meta(tmp_path / "old.npz", lambda meta: dict(meta, format=2), old_controls(m))
     back = Model.load(tmp_path / "old.npz")
@@ -111,6 +113,27 @@ def test_a_format_2_file_is_converted_and_resumes_bit_for_bit_with_support(tmp_p
     assert same_run(m, back)
     assert np.array_equal(m.cables.node_pos, back.cables.node_pos)
     assert np.array_equal(m.cables.seg_force, back.cables.seg_force)
+
+
+def test_a_format_4_file_goes_on_with_the_fixed_kinetic_damping_interval(tmp_path):
+    """Format 4 had no ``kinetic_adaptive`` and a kinetic-damping memory of three numbers:
+    such a file resumes as it ran, checking every ``kinetic_damping`` steps."""
+    m = bolted_column()
+    m.set_options(kinetic_adaptive=False)
+    m.restart_kinetic_interval()
+    m.save(tmp_path / "old.npz")
+
+    def as_format_4(meta):
+        meta["options"].pop("kinetic_adaptive")
+        return dict(meta, format=4)
+
+    with np.load(tmp_path / "old.npz") as z:
+        kinetic = z["array.kinetic"][:3].copy()
+    rewrite_meta(tmp_path / "old.npz", as_format_4,
+                 {"array.kinetic": kinetic})
+    back = Model.load(tmp_path / "old.npz")
+    assert back.kinetic_adaptive is False and back.kinetic.shape == (7,)
+    assert same_run(m, back)
 
 
 def test_a_file_of_an_unknown_format_is_refused_naming_it(tmp_path):

@@ -15,7 +15,9 @@ options as attributes, ``fixed_dt`` for the option ``dt``, the options added lat
 time and gravity, from when those parts had their own clock: the step now gives them its own);
 4 (2026-11-29), with the softening bonds' damage and the energy account (the contacts'
 ``damage``, ``work_fracture``, ``work_friction``, the blocks' ``work``, ``energy_bank``): files
-before it read as undamaged, with nothing spent so far.
+before it read as undamaged, with nothing spent so far; 5 (2026-11-30), with the option
+``kinetic_adaptive`` and the kinetic-damping memory of seven numbers (``step.relaxation``):
+files before it go on with the fixed check interval they ran with.
 """
 from __future__ import annotations
 
@@ -40,7 +42,7 @@ from ..step.state import BlockProps, BlockState, CrackLog
 
 __all__ = ["save_parts", "load_parts", "write_model", "read_model", "RUNNING", "FORMAT"]
 
-FORMAT = 4
+FORMAT = 5
 
 # What changes while a model runs (``Model.snapshot``/``restore`` copy these attributes); the
 # rest is fixed when it is built, or changed only by ``Model.set_options``.
@@ -168,6 +170,8 @@ def read_model(path, material, water_table) -> dict:
            "history": parts["history"]}
     out["table"] = material_table(meta["table_names"], out["materials"], options.unbreakable)
     out.update({k: a[k] for k in ("block_E", "block_nu", "gravity", "load", "kinetic")})
+    # the kinetic-damping memory was (3,) before format 5 (``step.relaxation``)
+    out["kinetic"] = np.concatenate([out["kinetic"], np.zeros(7 - len(out["kinetic"]))])
     out["energy_bank"] = a.get("energy_bank", np.zeros(len(BANK)))   # (files before it)
     out.update({k: parts["bundles"][k] for k in ("props", "state", "cracks")})
     out["cables"] = parts["bundles"].get("cables", no_cables())
@@ -196,6 +200,9 @@ def _upgrade(meta, path) -> dict:
     if version == 3:
         meta = dict(meta, format=4)     # the added arrays default to zero (``Contacts``,
         version = 4                     # ``BlockState.fields_of_old_files``, ``read_model``)
+    if version == 4:                    # they go on with the fixed kinetic-damping interval
+        meta = dict(meta, format=5, options=dict(meta["options"], kinetic_adaptive=False))
+        version = 5
     if version != FORMAT:
         raise ValueError(f"{path}: a model file of format {version}; this dem_core reads "
                          f"formats 1 to {FORMAT}: save it again with a dem_core that knows it")

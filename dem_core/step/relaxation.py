@@ -7,9 +7,22 @@ active mode is near its static position, and every free velocity is set to zero.
 restarts as leapfrog starts from rest: the first velocity update after the stop is half a step
 (v = a dt/2), which makes the stopped position a turning point of every mode (a plain v = 0
 restart starts each fast mode with its amplitude divided by cos(omega dt/2): docs/history.md).
-The interval must stay well below a quarter of the slowest period; local damping converges a
-slender model's lowest bending mode only over many of its periods, kinetic damping within a few
-quarter periods. Prescribed velocities are kept.
+The interval must stay well below a quarter of the period of the mode that carries the kinetic
+energy; local damping converges a slender model's lowest bending mode only over many of its
+periods, kinetic damping within a few quarter periods. Prescribed velocities are kept.
+
+Checks too sparse for the motion: when the peak falls between two checks, the stop comes late,
+near the next minimum of the kinetic energy, takes almost nothing out, and the mode rings on
+(the crest blocks of the Longtan slope rock at 5 cm/s through a whole level with every stop
+late: docs/mechanics.md, "Kinetic damping"). A stop is *late* when its kinetic energy is below
+``LATE_STOP`` (1/2) of the largest checked since the previous stop. With
+``Integrator.kinetic_adaptive`` (the default) a late stop halves the check interval (down to 1
+step); the interval goes back to ``kinetic_interval`` at the start of every solve
+(``workflow.solve``: a new load step), so a slow mode is not stopped at every ripple of a fast
+one. Without it the interval stays fixed (the rule before 2026-11-30). The memory
+``Integrator.kinetic`` (7,): the kinetic energy at the last check (J/m), steps since it, 1 when
+the motion was just stopped, the largest energy checked since the last stop, the number of
+stops and of late stops, the interval now (0: ``kinetic_interval``).
 
 Everything that moves takes part: the blocks, the deformable blocks' gridpoints and the cable
 and liner nodes count in the kinetic energy (inertial masses), and a stop zeroes all their
@@ -25,10 +38,19 @@ stopping the motion at every peak of the kinetic energy.
 """
 from __future__ import annotations
 
+import math
+
 from numba import njit
 
 from ..deformable.component import zone_kinetic_energy
 from .nodes import stop_support, support_kinetic_energy
+
+# a stop whose kinetic energy is below this fraction of the largest checked since the last
+# stop came after the peak, not at it (a sin^2 peak checked at most a sixth of its period late
+# keeps 3/4 of its energy; half of it at an eighth of a period late)
+LATE_STOP = 0.5
+# Integrator.kinetic: the kinetic-damping memory (module docstring)
+KE_LAST, SINCE_CHECK, HALF_KICK, KE_LARGEST, STOPS, LATE_STOPS, EVERY = range(7)
 
 __all__ = ["next_kick", "end_step", "kinetic_damping", "free_kinetic_energy", "stop_free_motion"]
 
@@ -37,8 +59,8 @@ __all__ = ["next_kick", "end_step", "kinetic_damping", "free_kinetic_energy", "s
 def next_kick(integ):
     """The time (s) of this step's velocity update: ``dt``, or ``dt / 2`` on the first step
     after a kinetic-damping stop (which this clears)."""
-    kick = 0.5 * integ.dt if integ.kinetic[2] != 0.0 else integ.dt
-    integ.kinetic[2] = 0.0
+    kick = 0.5 * integ.dt if integ.kinetic[HALF_KICK] != 0.0 else integ.dt
+    integ.kinetic[HALF_KICK] = 0.0
     return kick
 
 
@@ -58,20 +80,28 @@ def kinetic_damping(integ, s, p, zones, parts):
     if integ.kinetic_interval <= 0:
         return
     k = integ.kinetic
-    k[1] += 1.0
-    if k[1] < integ.kinetic_interval:
+    k[SINCE_CHECK] += 1.0
+    every = k[EVERY] if k[EVERY] > 0.0 else float(integ.kinetic_interval)
+    if k[SINCE_CHECK] < every:
         return
-    k[1] = 0.0
+    k[SINCE_CHECK] = 0.0
     ke = free_kinetic_energy(s, p)
     if zones is not None:
         ke += zone_kinetic_energy(zones, p.active)
     if parts is not None:
         ke += support_kinetic_energy(parts.cables, parts.liners)
-    if ke < k[0]:
+    k[KE_LARGEST] = max(k[KE_LARGEST], ke)
+    if ke < k[KE_LAST]:
         stop_free_motion(s, p, zones, parts)
+        k[STOPS] += 1.0
+        if ke < LATE_STOP * k[KE_LARGEST]:
+            k[LATE_STOPS] += 1.0
+            if integ.kinetic_adaptive:      # the peak fell between two checks: check twice as often
+                k[EVERY] = max(1.0, math.floor(0.5 * every))
+        k[KE_LARGEST] = 0.0
         ke = 0.0
-        k[2] = 1.0          # restart from rest: half a kick next step
-    k[0] = ke
+        k[HALF_KICK] = 1.0          # restart from rest: half a kick next step
+    k[KE_LAST] = ke
 
 
 @njit(cache=True)

@@ -125,11 +125,13 @@ class Integrator(NamedTuple):
     half_margin : float, m. A block that moved this far since the last search stops the run
         for a new search (inf: never).
     kinetic_interval : int. Steps between kinetic-energy checks (0: kinetic damping off).
-    kinetic : (3,) float64. Kinetic energy at the last check (J/m, inertial masses), steps
-        since it, and 1 when the motion was just stopped (the next velocity update is half a
-        step).
+    kinetic : (7,) float64. The kinetic-damping memory (``relaxation``: the energy at the last
+        check, J/m, inertial masses; steps since it; 1 when the motion was just stopped, the
+        next velocity update is half a step; the largest energy checked since the last stop;
+        stops; late stops; the check interval now, 0 for ``kinetic_interval``).
     edge_elements : bool. The two contacts of each shared edge act as one linear element
         (``forces.edge_correction``); False: the kernels never read ``Contacts.partner``.
+    kinetic_adaptive : bool. A late kinetic-damping stop halves the check interval.
     """
 
     dt: float
@@ -138,6 +140,7 @@ class Integrator(NamedTuple):
     kinetic_interval: int
     kinetic: np.ndarray
     edge_elements: bool = False
+    kinetic_adaptive: bool = False
 
 
 def block_props(bs, density) -> BlockProps:

@@ -40,6 +40,7 @@ def solve(model, settings, check_every=None, trace=None) -> monitor.SolveResult:
     if not np.any(model.props.active):
         raise ValueError("solve: no block is left (every block was excavated): there is "
                          "nothing to solve, and no verdict to give")
+    model.restart_kinetic_interval()        # a new load step: the checks start sparse again
     check = int(check_every or max(model.history.every, 100))
     creep = st.creep if st.creep is not None else (
         0.0 if st.watch else 1e-3 * float(np.median(model.props.radius)))
