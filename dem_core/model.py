@@ -87,7 +87,7 @@ class Model:
         self.zone_state = zone_setup.zone_bundle(blocks, self.props, sizes,
                                                  (self.block_E, self.block_nu), strengths,
                                                  self.group)
-        self.kinetic = np.zeros(7)             # Integrator.kinetic: kinetic-damping memory
+        self.kinetic = np.zeros(8)             # Integrator.kinetic: kinetic-damping memory
         self.energy_bank = np.zeros(len(energy.BANK))   # output.energy: dropped work, origin
         self.search_enabled = True
         self.response_steps = None             # N_r, steps (workflow.response), once measured

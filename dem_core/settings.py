@@ -55,8 +55,9 @@ class SolverOptions:
     kinetic_damping : every that many steps (0: off) the free velocities are zeroed at a
         kinetic-energy peak (dynamic relaxation, ``step.relaxation``).
     kinetic_adaptive : a kinetic-damping stop that came late (after the peak, between two
-        checks) halves the check interval, down to 1 step, until the next solve; False: the
-        interval stays ``kinetic_damping`` (the rule before 2026-11-30).
+        checks) halves the check interval, down to 1 step, until the next solve, and the
+        checks' spacing is spread over 1/2 to 1 interval (``step.relaxation``); False: a check
+        every ``kinetic_damping`` steps (the rule before 2026-11-30).
     edge_elements : the two contacts of a shared edge act as one linear interface element
         (``contact.forces.edge_correction``): the exact bending of a bonded edge.
     rounding : corner rounding radius d, m (0: sharp corners; ``contact.rounding``).

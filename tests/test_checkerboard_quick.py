@@ -69,8 +69,8 @@ def test_every_ucs_fails_as_t_is_lowered(quick):
 
 @pytest.mark.xfail(strict=True, reason="measured (2026-11-30, every solve of the quick now "
                    "ends in equilibrium, kinetic_adaptive): T at failure is 1.0 MPa at UCS 76, "
-                   "50 and 30 alike, at 20,000 and at 40,000 steps a solve, as on the Intel host "
-                   "before. The 0.65 MPa at UCS 76 of the AMD host (the trend) was a budget "
+                   "50 and 30 alike, every solve settling in 2,800-8,100 steps, as on the "
+                   "Intel host before. The 0.65 MPa at UCS 76 of the AMD host (the trend) was a budget "
                    "answer: every solve then ended still moving at its cap (docs/history.md, "
                    "'Kinetic damping that stopped too late'; docs/cases/checkerboard.md)")
 def test_t_at_failure_rises_as_ucs_falls(quick):
@@ -93,8 +93,8 @@ def test_t_at_failure_is_the_thesis_magnitude(quick):
 
 
 @pytest.mark.xfail(strict=True, reason="measured (2026-11-30): without support the quick "
-                   "slope also stands at T 0.5, 0.2, 0.1 MPa (UCS 30), at 1x and 2x the steps, "
-                   "every solve before it in equilibrium (8,100, 6,600, 6,700 steps), though the "
+                   "slope also stands at T 0.5, 0.2, 0.1 MPa (UCS 30), every level and every solve "
+                   "before them in equilibrium (8,100, 5,500, 5,300 steps), though the "
                    "back-analysis run lowered from T = c fails at 1.0. Before the kinetic-damping "
                    "fix (kinetic_adaptive) the solves ended moving at their caps and the "
                    "unsupported run failed at 0.2 MPa with 2 and 4 x the steps: that was the "

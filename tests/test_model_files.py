@@ -132,7 +132,7 @@ def test_a_format_4_file_goes_on_with_the_fixed_kinetic_damping_interval(tmp_pat
     rewrite_meta(tmp_path / "old.npz", as_format_4,
                  {"array.kinetic": kinetic})
     back = Model.load(tmp_path / "old.npz")
-    assert back.kinetic_adaptive is False and back.kinetic.shape == (7,)
+    assert back.kinetic_adaptive is False and back.kinetic.shape == (8,)
     assert same_run(m, back)
 
 

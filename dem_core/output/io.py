@@ -171,7 +171,7 @@ def read_model(path, material, water_table) -> dict:
     out["table"] = material_table(meta["table_names"], out["materials"], options.unbreakable)
     out.update({k: a[k] for k in ("block_E", "block_nu", "gravity", "load", "kinetic")})
     # the kinetic-damping memory was (3,) before format 5 (``step.relaxation``)
-    out["kinetic"] = np.concatenate([out["kinetic"], np.zeros(7 - len(out["kinetic"]))])
+    out["kinetic"] = np.concatenate([out["kinetic"], np.zeros(8 - len(out["kinetic"]))])
     out["energy_bank"] = a.get("energy_bank", np.zeros(len(BANK)))   # (files before it)
     out.update({k: parts["bundles"][k] for k in ("props", "state", "cracks")})
     out["cables"] = parts["bundles"].get("cables", no_cables())

@@ -19,10 +19,15 @@ late: docs/mechanics.md, "Kinetic damping"). A stop is *late* when its kinetic e
 ``Integrator.kinetic_adaptive`` (the default) a late stop halves the check interval (down to 1
 step); the interval goes back to ``kinetic_interval`` at the start of every solve
 (``workflow.solve``: a new load step), so a slow mode is not stopped at every ripple of a fast
-one. Without it the interval stays fixed (the rule before 2026-11-30). The memory
-``Integrator.kinetic`` (7,): the kinetic energy at the last check (J/m), steps since it, 1 when
-the motion was just stopped, the largest energy checked since the last stop, the number of
-stops and of late stops, the interval now (0: ``kinetic_interval``).
+one. A mode whose energy period divides the interval is seen at one phase check after check,
+never falls between two checks, and rings on unseen (a toe mode of the Longtan slope with a
+25-step energy period against checks 25 steps apart); so the checks' spacing is spread over
+[1/2, 1) of the interval by the golden ratio's sequence (spacing = interval x (1/2 + frac(i
+phi) / 2) at the i-th check; deterministic, so a saved model resumes bit for bit). Without
+``kinetic_adaptive`` the interval is fixed and not spread (the rule before 2026-11-30). The
+memory ``Integrator.kinetic`` (8,): the kinetic energy at the last check (J/m), steps since it,
+1 when the motion was just stopped, the largest energy checked since the last stop, the number
+of stops and of late stops, the interval now (0: ``kinetic_interval``), the checks so far.
 
 Everything that moves takes part: the blocks, the deformable blocks' gridpoints and the cable
 and liner nodes count in the kinetic energy (inertial masses), and a stop zeroes all their
@@ -50,7 +55,10 @@ from .nodes import stop_support, support_kinetic_energy
 # keeps 3/4 of its energy; half of it at an eighth of a period late)
 LATE_STOP = 0.5
 # Integrator.kinetic: the kinetic-damping memory (module docstring)
-KE_LAST, SINCE_CHECK, HALF_KICK, KE_LARGEST, STOPS, LATE_STOPS, EVERY = range(7)
+KE_LAST, SINCE_CHECK, HALF_KICK, KE_LARGEST, STOPS, LATE_STOPS, EVERY, CHECKS = range(8)
+# the checks' spacing is spread over [1/2, 1) of the interval by the golden ratio's sequence,
+# so that no mode is sampled at one phase check after check
+GOLDEN = 0.6180339887498949
 
 __all__ = ["next_kick", "end_step", "kinetic_damping", "free_kinetic_energy", "stop_free_motion"]
 
@@ -81,10 +89,13 @@ def kinetic_damping(integ, s, p, zones, parts):
         return
     k = integ.kinetic
     k[SINCE_CHECK] += 1.0
-    every = k[EVERY] if k[EVERY] > 0.0 else float(integ.kinetic_interval)
-    if k[SINCE_CHECK] < every:
+    adapted = integ.kinetic_adaptive and k[EVERY] > 0.0
+    every = k[EVERY] if adapted else float(integ.kinetic_interval)
+    spread = 0.5 + 0.5 * ((k[CHECKS] * GOLDEN) % 1.0) if integ.kinetic_adaptive else 1.0
+    if k[SINCE_CHECK] < max(1.0, math.floor(every * spread)):
         return
     k[SINCE_CHECK] = 0.0
+    k[CHECKS] += 1.0
     ke = free_kinetic_energy(s, p)
     if zones is not None:
         ke += zone_kinetic_energy(zones, p.active)

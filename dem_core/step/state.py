@@ -125,13 +125,14 @@ class Integrator(NamedTuple):
     half_margin : float, m. A block that moved this far since the last search stops the run
         for a new search (inf: never).
     kinetic_interval : int. Steps between kinetic-energy checks (0: kinetic damping off).
-    kinetic : (7,) float64. The kinetic-damping memory (``relaxation``: the energy at the last
+    kinetic : (8,) float64. The kinetic-damping memory (``relaxation``: the energy at the last
         check, J/m, inertial masses; steps since it; 1 when the motion was just stopped, the
         next velocity update is half a step; the largest energy checked since the last stop;
-        stops; late stops; the check interval now, 0 for ``kinetic_interval``).
+        stops; late stops; the check interval now, 0 for ``kinetic_interval``; checks).
     edge_elements : bool. The two contacts of each shared edge act as one linear element
         (``forces.edge_correction``); False: the kernels never read ``Contacts.partner``.
-    kinetic_adaptive : bool. A late kinetic-damping stop halves the check interval.
+    kinetic_adaptive : bool. A late kinetic-damping stop halves the check interval, and
+        the checks' spacing is spread (``relaxation``).
     """
 
     dt: float
