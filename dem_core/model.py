@@ -318,7 +318,8 @@ class Model:
         too sparse for the motion, ``step.relaxation``) and ``every`` (the check interval
         now, steps)."""
         k = self.kinetic
-        every = k[relaxation.EVERY] if k[relaxation.EVERY] > 0 else self.kinetic_damping
+        adapted = self.kinetic_adaptive and k[relaxation.EVERY] > 0
+        every = k[relaxation.EVERY] if adapted else self.kinetic_damping
         return {"stops": int(k[relaxation.STOPS]), "late": int(k[relaxation.LATE_STOPS]),
                 "every": int(every)}
 

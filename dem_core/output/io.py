@@ -16,7 +16,7 @@ time and gravity, from when those parts had their own clock: the step now gives 
 4 (2026-11-29), with the softening bonds' damage and the energy account (the contacts'
 ``damage``, ``work_fracture``, ``work_friction``, the blocks' ``work``, ``energy_bank``): files
 before it read as undamaged, with nothing spent so far; 5 (2026-11-30), with the option
-``kinetic_adaptive`` and the kinetic-damping memory of seven numbers (``step.relaxation``):
+``kinetic_adaptive`` and the kinetic-damping memory of eight numbers (``step.relaxation``):
 files before it go on with the fixed check interval they ran with.
 """
 from __future__ import annotations
