@@ -4,7 +4,8 @@ default, the verdict at ``max_steps``; every budget of the variant, its settings
 "steps", times the factor) and "response" (the verdict over windows of the measured response
 time, ``dem_core/workflow/response.py``; ``windows`` times the factor).
 
-    .venv/bin/python benchmarks/verdict_budgets.py [--cases adhikary underdip ...] [--reference]
+    .venv/bin/python benchmarks/verdict_budgets.py [--cases adhikary underdip ...]
+        [--judges budget response] [--out NAME] [--reference]
 
 Per member: steps (all stages), seconds, each stage's verdict, the stages that did not stand,
 the search's failure and last stable levels (its ``answer``); per judge: how many members give
@@ -68,7 +69,7 @@ def members(case, v, judge, factor):
     return out
 
 
-def measure(name: str, workers: int) -> dict:
+def measure(name: str, workers: int, judges=("budget", "response")) -> dict:
     from comparisons.cli import custom_variant
     from comparisons.sweep import run_sweep
     case = importlib.import_module(f"comparisons.{name}")
@@ -76,20 +77,20 @@ def measure(name: str, workers: int) -> dict:
     v["continuum"] = False if "continuum" in v else v.get("continuum")
     out = {"case": name, "members": []}
     runs = {}
-    for judge in ("budget", "response"):
+    for judge in judges:
         for factor in (1, 2):
             key = f"{judge}_x{factor}"
             t0 = time.perf_counter()
             runs[key] = run_sweep(case.run_member, members(case, v, judge, factor),
                                   workers=workers)
             out[f"wall_s_{key}"] = round(time.perf_counter() - t0, 1)
-    for i, b in enumerate(runs["budget_x1"]):
+    for i, b in enumerate(runs[f"{judges[0]}_x1"]):
         row = {"label": b["label"]}
         for key, rs in runs.items():
             steps, verdicts = steps_and_verdicts(rs[i])
             row[key] = {"steps": steps, "seconds": round(rs[i]["runtime_s"], 1),
                         "verdicts": verdicts, **answer(rs[i])}
-        for judge in ("budget", "response"):
+        for judge in judges:
             row[f"same_{judge}"] = answer(runs[f"{judge}_x1"][i]) == answer(
                 runs[f"{judge}_x2"][i])
         out["members"].append(row)
@@ -100,27 +101,31 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--cases", nargs="+", default=CASES, choices=CASES)
     ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--judges", nargs="+", default=["budget", "response"],
+                    choices=["budget", "response"], help="run only these judges")
+    ap.add_argument("--out", default="verdict_budgets", help="the result file's name")
     ap.add_argument("--reference", action="store_true")
     args = ap.parse_args(argv)
     result = {"machine": machine(), "cases": []}
     for name in args.cases:
-        r = measure(name, args.workers)
+        r = measure(name, args.workers, tuple(args.judges))
         result["cases"].append(r)
         print(json.dumps({k: r[k] for k in r if k != "members"}), flush=True)
         for m in r["members"]:
             print("  ", m["label"], {k: (m[k]["failure"], m[k]["last_stable"], m[k]["steps"])
                                      for k in m if k.endswith(("x1", "x2"))},
-                  m["same_budget"], m["same_response"], flush=True)
+                  [m[f"same_{j}"] for j in args.judges], flush=True)
     total = {}
-    for judge in ("budget", "response"):
+    for judge in args.judges:
         rows = [m for c in result["cases"] for m in c["members"]]
         total[judge] = {"members": len(rows), "same_at_2x": sum(m[f"same_{judge}"] for m in rows),
                         "steps_x1": sum(m[f"{judge}_x1"]["steps"] for m in rows)}
-    total["response_steps_over_budget"] = round(total["response"]["steps_x1"]
-                                                / max(1, total["budget"]["steps_x1"]), 3)
+    if len(total) == 2:
+        total["response_steps_over_budget"] = round(total["response"]["steps_x1"]
+                                                    / max(1, total["budget"]["steps_x1"]), 3)
     result["total"] = total
     print(json.dumps(total))
-    write_json("verdict_budgets", result, reference=args.reference)
+    write_json(args.out, result, reference=args.reference)
 
 
 if __name__ == "__main__":

@@ -21,6 +21,7 @@ __all__ = ["SolverOptions", "SolveSettings", "STEP_ESTIMATES", "JUDGES", "SCENE_
 
 STEP_ESTIMATES = ("bound", "eigen", "auto")     # how the critical step is found
 JUDGES = ("budget", "response")         # how a solve's verdict is found (SolveSettings.judge)
+BUDGET_STEPS = 20_000                   # the budget judge's step budget when none is given
 
 
 def _whole(v) -> bool:
@@ -147,7 +148,9 @@ class SolveSettings:
     """How one solve, or one level of a search, is run and judged.
 
     ratio : the unbalanced-force ratio that counts as equilibrium (``output.monitor``).
-    max_steps : the step budget of the solve (of each level, in a search).
+    max_steps : the step budget of the solve (of each level, in a search) for
+        ``judge="budget"`` (None: ``BUDGET_STEPS``, 20,000); giving one with no ``judge``
+        chooses the budget judge. Not used by ``judge="response"``.
     failure_displacement : m; a block (or watched point) moving more than this during the
         solve has failed (None: no such test).
     creep : m; displacement increments below this do not count as movement: in the budget
@@ -156,10 +159,12 @@ class SolveSettings:
         (``workflow.response``; None: 1e-3 of the median block radius, at least 1e-6 of it).
     watch : history-point names judged instead of every block (empty: every block).
     settle : stop early as "settled" once the motion has died out (``monitor.settled``).
-    judge : "budget" (today's default): the verdict at ``max_steps`` ("equilibrium", "settled",
-        "moving" or "failed", ``output.monitor``); "response": "equilibrium", "failing" or
-        "undecided", judged over windows of the model's measured response time N_r, with no
-        step budget in the answer (``workflow.response``; ``max_steps`` is then not used).
+    judge : "response": "equilibrium", "failing" or "undecided", judged over windows of the
+        model's measured response time N_r, with no step budget in the answer
+        (``workflow.response``); "budget": the verdict at ``max_steps`` ("equilibrium",
+        "settled", "moving" or "failed", ``output.monitor``; the default before 2026-11-30).
+        None (the default): "response", or "budget" where ``max_steps`` is given, so a call
+        or scene that names a step budget keeps the verdict it had (``validated`` resolves it).
     response_steps : N_r in steps for ``judge="response"`` (None: the model's, measured at
         its first judged solve, ``workflow.response.measure_response``).
     windows : the cap of a ``judge="response"`` solve, in windows of N_r: a solve that has
@@ -167,21 +172,30 @@ class SolveSettings:
     """
 
     ratio: float = 1e-5
-    max_steps: int = 20_000
+    max_steps: int | None = None
     failure_displacement: float | None = None
     creep: float | None = None
     watch: tuple = ()
     settle: bool = False
-    judge: str = "budget"
+    judge: str | None = None
     response_steps: int | None = None
     windows: int = 20
 
     def validated(self, where="solve") -> "SolveSettings":
-        """Itself, after checking each setting (ValueError naming ``where`` and the value)."""
+        """Itself with ``judge`` and ``max_steps`` resolved (a judge of None is "budget" where
+        ``max_steps`` is given, else "response"; the budget judge's ``max_steps`` of None is
+        ``BUDGET_STEPS``), after checking each setting (ValueError naming ``where`` and the
+        value)."""
+        if self.judge is None:
+            return dataclasses.replace(
+                self, judge="response" if self.max_steps is None else "budget"
+            ).validated(where)
+        if self.max_steps is None and self.judge == "budget":
+            return dataclasses.replace(self, max_steps=BUDGET_STEPS).validated(where)
         if not (isinstance(self.ratio, (int, float)) and not isinstance(self.ratio, bool)
                 and self.ratio > 0):
             raise ValueError(f"{where}: ratio must be > 0, got {self.ratio!r}")
-        if not (_whole(self.max_steps) and self.max_steps > 0):
+        if self.max_steps is not None and not (_whole(self.max_steps) and self.max_steps > 0):
             raise ValueError(f"{where}: max_steps must be a whole number > 0, got "
                              f"{self.max_steps!r}")
         fd = self.failure_displacement

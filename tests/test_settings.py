@@ -34,6 +34,23 @@ def test_the_searches_and_the_solve_default_to_the_same_settings():
             assert name not in inspect.signature(fn).parameters
 
 
+def test_the_judge_is_the_response_judge_unless_a_step_budget_is_given():
+    """A solve with no judge and no budget is judged from the response time; one that names a
+    budget keeps the budget judge (so calls and scene files written before the switch keep
+    their verdicts); the budget judge alone gets the 20,000 steps it always had."""
+    from dem_core.settings import BUDGET_STEPS
+    assert SolveSettings().validated().judge == "response"
+    assert SolveSettings().validated().max_steps is None
+    st = SolveSettings(max_steps=5_000).validated()
+    assert (st.judge, st.max_steps) == ("budget", 5_000)
+    st = SolveSettings(judge="budget").validated()
+    assert (st.judge, st.max_steps) == ("budget", BUDGET_STEPS) and BUDGET_STEPS == 20_000
+    st = SolveSettings(judge="response", max_steps=5_000).validated()
+    assert (st.judge, st.max_steps) == ("response", 5_000)      # not used by this judge
+    assert stages.Solve().judge is None and SolveSettings.of(stages.Solve(max_steps=10)
+                                                             ).validated().judge == "budget"
+
+
 @pytest.mark.parametrize("bad, words", [
     (dict(ratio=0.0), "ratio must be > 0"),
     (dict(max_steps=0), "max_steps must be a whole number > 0"),

@@ -81,10 +81,10 @@ class Solve:
     stopped growing and no bond broke (``monitor.settled``); ``watch``: judge these history
     points' displacement instead of every block's."""
     ratio: float = DEFAULT_SOLVE.ratio           # the solve's SolveSettings (settings.py)
-    max_steps: int = DEFAULT_SOLVE.max_steps
+    max_steps: int | None = DEFAULT_SOLVE.max_steps
     failure_displacement: float | None = DEFAULT_SOLVE.failure_displacement
     settle: bool = DEFAULT_SOLVE.settle
-    judge: str = DEFAULT_SOLVE.judge
+    judge: str | None = DEFAULT_SOLVE.judge
     response_steps: int | None = DEFAULT_SOLVE.response_steps
     windows: int = DEFAULT_SOLVE.windows
     creep: float | None = DEFAULT_SOLVE.creep
@@ -116,13 +116,13 @@ class Cycle:
 class RaiseGravity:
     g_levels: tuple
     ratio: float = DEFAULT_SOLVE.ratio           # each level's SolveSettings (settings.py)
-    max_steps: int = DEFAULT_SOLVE.max_steps
+    max_steps: int | None = DEFAULT_SOLVE.max_steps
     failure_displacement: float | None = DEFAULT_SOLVE.failure_displacement
     creep: float | None = DEFAULT_SOLVE.creep
     watch: tuple = DEFAULT_SOLVE.watch
     refine_to: float | None = None
     settle: bool = DEFAULT_SOLVE.settle
-    judge: str = DEFAULT_SOLVE.judge
+    judge: str | None = DEFAULT_SOLVE.judge
     response_steps: int | None = DEFAULT_SOLVE.response_steps
     windows: int = DEFAULT_SOLVE.windows
 

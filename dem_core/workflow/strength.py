@@ -96,12 +96,12 @@ class FactorOfSafety:
     refine_to: float | None = 0.02
     tension: bool = False
     ratio: float = DEFAULT_SOLVE.ratio           # the level's SolveSettings (settings.py)
-    max_steps: int = DEFAULT_SOLVE.max_steps
+    max_steps: int | None = DEFAULT_SOLVE.max_steps
     failure_displacement: float | None = DEFAULT_SOLVE.failure_displacement
     creep: float | None = DEFAULT_SOLVE.creep
     watch: tuple = DEFAULT_SOLVE.watch
     settle: bool = DEFAULT_SOLVE.settle
-    judge: str = DEFAULT_SOLVE.judge
+    judge: str | None = DEFAULT_SOLVE.judge
     response_steps: int | None = DEFAULT_SOLVE.response_steps
     windows: int = DEFAULT_SOLVE.windows
 
@@ -137,12 +137,12 @@ class StrengthSchedule:
     values: tuple
     refine_to: float | None = None
     ratio: float = DEFAULT_SOLVE.ratio           # the level's SolveSettings (settings.py)
-    max_steps: int = DEFAULT_SOLVE.max_steps
+    max_steps: int | None = DEFAULT_SOLVE.max_steps
     failure_displacement: float | None = DEFAULT_SOLVE.failure_displacement
     creep: float | None = DEFAULT_SOLVE.creep
     watch: tuple = DEFAULT_SOLVE.watch
     settle: bool = DEFAULT_SOLVE.settle
-    judge: str = DEFAULT_SOLVE.judge
+    judge: str | None = DEFAULT_SOLVE.judge
     response_steps: int | None = DEFAULT_SOLVE.response_steps
     windows: int = DEFAULT_SOLVE.windows
 
