@@ -280,8 +280,8 @@ def test_a_key_given_twice_in_a_scene_file_is_refused_naming_it(tmp_path, old, n
     (["materials", "*", "breakable"], "false",
      "materials['*']: breakable must be true or false, got 'false'"),
     (["stages", 1, "settle"], "no", "stage 1 (solve): settle must be true or false, got 'no'"),
-    (["stages", 1, "max_steps"], True, "stage 1 (solve): max_steps must be a whole number, "
-                                       "got True"),
+    (["stages", 1, "max_steps"], True, "stage 1 (solve): max_steps must be a whole number or "
+                                       "null, got True"),
     (["stages", 0, "g_level"], True, "stage 0 (gravity): g_level must be a number, got True"),
     (["geometry", "voronoi", "rock", "edge_seeding"], "yes",
      "geometry.voronoi['rock']: edge_seeding must be true or false, got 'yes'"),
@@ -676,7 +676,7 @@ def no_sweep(monkeypatch):
     ("edge_length=-0.006", "member 'conventional': Voronoi edge_length must be finite and > 0"),
     ("g_levels=[120, 100, 80]", "g_levels must be increasing and > 0, got (120, 100, 80)"),
     ("max_steps=0", "max_steps must be a whole number > 0, got 0"),
-    ("max_steps=2.5", "max_steps must be a whole number, got 2.5")])
+    ("max_steps=2.5", "max_steps must be a whole number or null, got 2.5")])
 def test_a_setting_the_case_refuses_is_one_line_before_its_sweep(tmp_path, capsys, no_sweep,
                                                                  item, words):
     """Before: tracebacks (the solver option from the case's own check, the others from each
@@ -742,7 +742,7 @@ ISSUE_56 = {
              "breakable must be true or false"),
     "S11c": (lambda: edited(["stages", 1, "settle"], "no"), 2, "settle must be true or false"),
     "S12": (lambda: edited(["stages", 1, "max_steps"], True), 2,
-            "max_steps must be a whole number, got True"),
+            "max_steps must be a whole number or null, got True"),
     "S13": (lambda: json.dumps(scene_dict()).replace('"density": 2500.0',
                                                      '"density": 2500.0, "density": 25.0'),
             2, "duplicate key 'density'"),
@@ -763,7 +763,7 @@ ISSUE_56 = {
     "C11": (lambda: _with({"kind": "solve"}, {"kind": "solve", "watch": ["Z"]}), 2,
             "stage 2 (solve): watch names no monitoring point ['Z']"),
     "C12": (lambda: edited(["stages", 1, "max_steps"], 2.5), 2,
-            "max_steps must be a whole number, got 2.5"),
+            "max_steps must be a whole number or null, got 2.5"),
     "C13": (lambda: edited(["materials", "*", "kn"], 1e308), 2,
             "kn = 1e+308 Pa/m is not a contact stiffness"),
     "C14": (lambda: edited(["stages", 0, "g_level"], 1e30), 2,

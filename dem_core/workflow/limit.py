@@ -140,13 +140,16 @@ def search_failure(model, levels, apply, settings=None, *, record=None, progress
         a resumable state, module docstring, or to write VTK files).
     """
     st = (settings or SolveSettings()).replace(**changes).validated("search")
-    remeasure = st.judge == "response" and st.response_steps is None
-    if remeasure and model.response_steps is None:
-        model.measure_response(st.watch)
     levels = check_levels(levels, "levels", positive=False)
     if refine_to is not None:
         if not (np.isfinite(refine_to) and refine_to > 0):
             raise ValueError(f"refine_to must be finite and > 0, got {refine_to}")
+    missing = [n for n in st.watch if n not in model.points]
+    if missing:          # before any step (the response time's measurement cycles the model)
+        raise ValueError(f"no history point(s) {missing}; add them with add_history_point")
+    remeasure = st.judge == "response" and st.response_steps is None
+    if remeasure and model.response_steps is None:
+        model.measure_response(st.watch)
     rec = record if record is not None else LimitRecord()
     t0 = time.perf_counter()
     now = float(levels[0] if start is None else start)
