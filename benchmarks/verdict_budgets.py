@@ -1,6 +1,6 @@
 """Does a case's answer move with its step budget? Each quick case member run with both
-judges (``dem_core.settings.SolveSettings.judge``) at 1x and 2x the cap: "budget" (today's
-default, the verdict at ``max_steps``; every budget of the variant, its settings ending in
+judges (``dem_core.settings.SolveSettings.judge``) at 1x and 2x the cap: "budget" (the cases'
+judge, the verdict at ``max_steps``; every budget of the variant, its settings ending in
 "steps", times the factor) and "response" (the verdict over windows of the measured response
 time, ``dem_core/workflow/response.py``; ``windows`` times the factor).
 
@@ -116,8 +116,8 @@ def main(argv=None):
                                      for k in m if k.endswith(("x1", "x2"))},
                   [m[f"same_{j}"] for j in args.judges], flush=True)
     total = {}
+    rows = [m for c in result["cases"] for m in c["members"]]
     for judge in args.judges:
-        rows = [m for c in result["cases"] for m in c["members"]]
         total[judge] = {"members": len(rows), "same_at_2x": sum(m[f"same_{judge}"] for m in rows),
                         "steps_x1": sum(m[f"{judge}_x1"]["steps"] for m in rows)}
     if len(total) == 2:

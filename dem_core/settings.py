@@ -16,8 +16,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["SolverOptions", "SolveSettings", "STEP_ESTIMATES", "JUDGES", "SCENE_SOLVER_KEYS",
-           "per_block", "search_margin", "new_contact_material", "material_names"]
+__all__ = ["SolverOptions", "SolveSettings", "STEP_ESTIMATES", "JUDGES", "BUDGET_STEPS",
+           "SCENE_SOLVER_KEYS", "per_block", "search_margin", "new_contact_material",
+           "material_names"]
 
 STEP_ESTIMATES = ("bound", "eigen", "auto")     # how the critical step is found
 JUDGES = ("budget", "response")         # how a solve's verdict is found (SolveSettings.judge)
