@@ -168,8 +168,10 @@ class SolveSettings:
         or scene that names a step budget keeps the verdict it had (``validated`` resolves it).
     response_steps : N_r in steps for ``judge="response"`` (None: the model's, measured at
         its first judged solve, ``workflow.response.measure_response``).
-    windows : the cap of a ``judge="response"`` solve, in windows of N_r: a solve that has
-        neither come to rest nor shown a mechanism by then is "undecided".
+    windows : the cap of a ``judge="response"`` solve, in windows (the first three N_r
+        steps long; one after a window that slowed is twice as long, up to 8 N_r,
+        ``workflow.response.next_span``; 20 windows are at most 129 N_r): a solve that has neither come to rest nor shown a mechanism by then is
+        "undecided".
     """
 
     ratio: float = 1e-5

@@ -207,3 +207,38 @@ def test_a_block_pulled_past_a_cables_capacity_is_failing_under_the_response_jud
     res = m.solve(ratio=1e-6, failure_displacement=0.05, judge="response")
     assert res.verdict == "failing"
 
+
+
+def test_a_window_grows_only_after_one_that_slowed():
+    """N_r for the first three windows; then twice the window before (up to LONGEST N_r)
+    after a window slower than the one before it, else as long as that one."""
+    from dem_core.workflow.response import LONGEST, next_span
+    slowing, speeding = [(0, 2.0, 0), (0, 1.0, 0)], [(0, 1.0, 0), (0, 2.0, 0)]
+    assert next_span(3, 100, 100, slowing) == 100               # the even windows
+    assert next_span(4, 100, 100, slowing) == 200
+    assert next_span(4, 100, 400, speeding) == 400              # never shorter
+    assert next_span(9, 100, 800, slowing) == LONGEST * 100
+
+
+def test_joint_slip_that_settles_over_many_response_times_is_not_a_mechanism():
+    """Common toppling's quick slope (3 m flaws, 6 m layers, friction 50) after its 12 lifts
+    are removed together settles by joint slip over about 36 N_r: run on the budget judge
+    with 320,000 steps it reaches a ratio of 1e-5 at 68,600 steps, the crest 0.18 m out
+    (benchmarks/trials/long_budget_check.py). Over equal windows of N_r the response judge
+    called it "failing" at window 10 (1 cm a window, not slowing by a fifth); the growing
+    windows see it come to rest, at the same step with 1x and 2x the cap."""
+    from comparisons import common_toppling as case
+    from comparisons.cli import custom_variant
+    from comparisons.scenes import common_toppling as scene
+    from dem_core.workflow.scene import build_model
+    v = custom_variant(case, "quick", [])
+    member = next(m for m in case.members(v, 1) if m["label"] == "6 m, friction 50")
+    p = scene.ToppleParams(**member["params"])
+    lifts = case.strength_stages(p, member["v"])[:14]     # gravity, solve, the 12 lifts
+    out = []
+    for x in (1, 2):
+        model = build_model(scene.scene(p, lifts), threads=1)
+        run_stages(model, lifts)
+        out.append(model.solve(judge="response", windows=WINDOWS * x))
+    assert [r.verdict for r in out] == ["equilibrium"] * 2, [r.reason for r in out]
+    assert out[0].steps == out[1].steps > 3 * out[0].response_steps

@@ -30,34 +30,50 @@ What is judged: the watched points, or else everything that moves (the active bl
 centroids, the cables' and liners' nodes, the deformable blocks' gridpoints: a liner over an
 opening sags while every block it spans is held).
 
-**Verdict.** The solve runs in windows of N_r steps, checked every ``check`` steps. With
-``move_k`` the largest movement of a judged block (or point) from window k-1 to window k, each
-window's position being its mean over the window's checks (the start for k = 1), and ``R_k``
-the mean unbalanced ratio (``output.monitor``) over its checks:
+**Verdict.** The solve runs in windows, checked every ``check`` steps. The first
+``EVEN`` (3) windows are N_r steps long; after that a window is ``SPAN_GROWTH`` (2) times the
+one before, up to ``LONGEST`` (8) N_r, when the window before slowed down (``v_k < v_k-1``,
+below), and as long as it otherwise (``next_span``). N_r is the response to a load step of
+the structure held as it is, and the motion after an excavation or a crack burst can decay
+over many of them (joint slip settling over ~36 N_r on the common-toppling slope after its
+lifts): a motion that is slowing is sampled on a growing time scale until it has either died
+out or kept its speed, while one that keeps or gains speed is judged on windows as short as
+before. With ``L_k`` window k's length, ``move_k`` the largest
+movement of a judged block (or point) from window k-1 to window k, each window's position
+being its mean over the window's checks (the start for k = 1), ``v_k = move_k N_r / D_k``
+that movement per N_r (the window's speed; ``D_k = (L_k-1 + L_k) / 2`` steps lie between the
+two means, ``D_1 = L_1``), and ``R_k`` the mean unbalanced ratio (``output.monitor``) over its
+checks:
 
 - "equilibrium": the ratio falls to ``ratio`` at a check while the judged blocks (points)
   move slowly: at the fastest one's present speed it would move at most ``creep`` in N_r
   steps (a block sliding steadily at its limit has no unbalanced force, but it is not at
   rest); or, from the second window on, at
   the end of a window in which no bond broke, ``move_k <= move_k-1 / 2`` (a movement that at
-  least halves every response time has at most ``move_k`` still to go, a geometric series,
-  so the model comes to rest within that of where it is) or ``move_k <= min(creep,
-  move_k-1)`` (a movement below ``creep`` that is not growing);
+  least halves every window, each at least as long as the one before, has at most ``move_k``
+  still to go, a geometric series, so the model comes to rest within that of where it is) or
+  ``v_k <= min(creep, v_k-1)`` (a speed below ``creep`` per N_r that is not growing);
 - "failing": the judged displacement since the solve began passes ``failure_displacement``;
-  or, from the third window on, a mechanism over two response times: ``move > creep`` and
-  ``move_j >= 0.8 move_j-1`` (the velocity does not decay) while ``R_j >= 0.9 R_j-1`` (the
+  or, from the third window on, a mechanism over two windows: ``v > creep`` and
+  ``v_j >= 0.8 v_j-1`` (the velocity does not decay) while ``R_j >= 0.9 R_j-1`` (the
   ratio stops falling: the test of Dawson et al. 1999), for j = k and k - 1. Two, because a
   large load step (a first level from rest, a crack burst) can take the slope through a
   longer transient than the elastic N_r: on the Adhikary slope at 6 mm, 0 to 40 g in one step
   moves point A 2.26 mm over 6,400 steps, accelerating for the first 5,000, and stops dead
   (N_r = 3,000);
-- "undecided": neither within ``windows`` windows. It is never counted as standing.
+- "undecided": neither within ``windows`` windows (20: at most 129 N_r). It is never
+  counted as standing.
+
+Within the even windows the rules are those of equal windows (``v_k`` is ``move_k``), so a
+verdict reached by window 3 does not depend on the growth.
 
 Why mean positions: a block oscillating about a stable position has a mean that stays put,
 while a mechanism's mean moves on by its velocity times N_r; a window's end points alone would
 read an oscillation's phase. What the test cannot tell apart: a motion that slows by less than
-a fifth per response time (a block thrown along a plane, sliding to a stop over many response
-times) is "failing" while it lasts, as it is under the ratio test of FLAC.
+a fifth per window (a block thrown along a plane, sliding to a stop over many response
+times) is "failing" while it lasts, as it is under the ratio test of FLAC; the growing windows
+shorten what it can be: one that has decayed by e over ``tau`` steps slows by more than a fifth
+between windows once they are about ``tau / 2`` long.
 
 ``creep`` (m) defaults to 1e-3 of the median block radius, for blocks and watched points alike,
 per window, and is never less than ``REST`` = 1e-6 of it: below that a movement is round-off
@@ -75,7 +91,8 @@ import numpy as np
 from ..contact.materials import material_table
 from ..output import monitor
 
-__all__ = ["measure_response", "judge", "LOAD_STEP", "AT_REST", "GROWTH", "FIRST", "MOST"]
+__all__ = ["measure_response", "judge", "next_span", "LOAD_STEP", "AT_REST", "GROWTH",
+           "FIRST", "MOST", "EVEN", "SPAN_GROWTH", "LONGEST"]
 
 LOAD_STEP = 0.05        # the gravity step of the measurement, of the model's gravity
 AT_REST = 0.05          # movement since the last test point / movement since the load step
@@ -85,6 +102,9 @@ MOST = 400_000          # steps: a model that has not come to rest by then has t
 SMALL_G = 0.0981        # m/s^2: the step of a model without gravity
 STRONG = 1e20           # Pa: the peak strengths of the measurement (no intact contact fails)
 REST = 1e-6             # of the median block radius: the least creep (movement below is noise)
+EVEN = 3                # windows of N_r before they may grow (a mechanism shows over three)
+SPAN_GROWTH = 2         # a window after a slowing one is this many times as long ...
+LONGEST = 8             # ... up to this many N_r
 
 
 def _moving(model, which):
@@ -161,6 +181,18 @@ def _elastic(model):
     np.maximum(c.sn_elastic[:n], 0.0, out=c.sn_elastic[:n])
 
 
+def next_span(k: int, n_r: int, span: int, before: list) -> int:
+    """Steps of window ``k`` (1-based): N_r for the first ``EVEN``; after that ``SPAN_GROWTH``
+    times ``span`` (window k-1's), at most ``LONGEST`` N_r, when window k-1 was slower than
+    window k-2 (``before``: their (move, speed, ratio)), else ``span`` (module docstring).
+    A window is never shorter than the one before."""
+    if k <= EVEN:
+        return n_r
+    if before[-1][1] < before[-2][1]:
+        return min(LONGEST * n_r, SPAN_GROWTH * span)
+    return span
+
+
 def judge(model, st, n_r, check, moved, trace) -> monitor.SolveResult:
     """Run windows of ``n_r`` steps (checked every ``check``) until the verdict (module
     docstring). ``st``: the solve's ``SolveSettings``; ``moved()``: the judged displacement
@@ -170,12 +202,16 @@ def judge(model, st, n_r, check, moved, trace) -> monitor.SolveResult:
     what = "a watched point" if st.watch else "a block"
     steps, disp = trace
     fd = st.failure_displacement
-    done, r, before = 0, float("inf"), []            # (move, mean ratio) of each window
+    done, r, before = 0, float("inf"), []     # (move, speed, mean ratio) of each window
     centre = positions(model, st.watch)              # mean position over the window before
+    spans = []                                       # steps of each window
     for k in range(1, st.windows + 1):
         cracks0, ratios, total = _cracks(model), [], np.zeros_like(centre)
-        while done < k * n_r:
-            n = min(check, k * n_r - done)
+        span = next_span(k, n_r, spans[-1] if spans else n_r, before)
+        spans.append(span)
+        end = done + span
+        while done < end:
+            n = min(check, end - done)
             model.cycle(n)
             done += n
             r, d = model.unbalanced_ratio(), moved()
@@ -191,37 +227,52 @@ def judge(model, st, n_r, check, moved, trace) -> monitor.SolveResult:
                                f"{fd} m")
         mean = total / len(ratios)
         move, mean_r = _largest(mean, centre), float(np.mean(ratios))
-        verdict = _window_verdict(k, move, mean_r, _cracks(model) - cracks0, before, creep,
-                                  n_r, what)
+        # the means of windows k-1 and k are (L_k-1 + L_k) / 2 apart in steps (window 1's
+        # movement, from the start, counted over its own length as before)
+        gap = span if k == 1 else (spans[-2] + span) / 2
+        now = (move, move * n_r / gap, mean_r)
+        verdict = _window_verdict(k, now, _cracks(model) - cracks0, before, creep, n_r, what,
+                                  spans)
         if verdict is not None:
             return _result(verdict[0], done, r, disp, n_r, verdict[1])
-        before.append((move, mean_r))
+        before.append(now)
         centre = mean
     return _result("undecided", done, r, disp, n_r, f"neither at rest nor a mechanism after "
-                   f"{st.windows} windows of N_r = {n_r} steps (last window: {what} moved "
+                   f"{st.windows} windows ({done} steps, N_r = {n_r}; last window: {what} moved "
                    f"{before[-1][0]:.3g} m)")
 
 
-def _window_verdict(k, move, mean_r, broke, before, creep, n_r, what):
+def _window_verdict(k, now, broke, before, creep, n_r, what, spans):
     """(verdict, reason) at the end of window ``k``, or None to go on (module docstring).
-    ``before``: [(move, mean ratio)] of the windows before."""
+    ``now`` and each of ``before`` (the windows before): (move m, speed m per N_r, mean
+    ratio); ``spans``: the steps of windows 1..k."""
     if not before:
         return None
-    move1, ratio1 = before[-1]
-    if broke == 0 and (move <= 0.5 * move1 or move <= min(creep, move1)):
+    move, v, mean_r = now
+    move1, v1, ratio1 = before[-1]
+    if broke == 0 and (move <= 0.5 * move1 or v <= min(creep, v1)):
         return "equilibrium", (f"coming to rest: {what} moved {move:.3g} m over window {k} "
-                               f"against {move1:.3g} m before (N_r = {n_r} steps, creep "
-                               f"{creep:.3g} m), no bond broke")
+                               f"against {move1:.3g} m before ({_spans(spans[-2:], n_r)}, creep "
+                               f"{creep:.3g} m per N_r), no bond broke")
     if len(before) < 2:
         return None
-    move2, ratio2 = before[-2]
-    if (min(move, move1) > creep and move >= 0.8 * move1 and move1 >= 0.8 * move2
+    move2, v2, ratio2 = before[-2]
+    if (min(v, v1) > creep and v >= 0.8 * v1 and v1 >= 0.8 * v2
             and mean_r >= 0.9 * ratio1 and ratio1 >= 0.9 * ratio2):
         return "failing", (f"a mechanism: {what} moved {move2:.3g}, {move1:.3g} and "
-                           f"{move:.3g} m over windows {k - 2}..{k} of N_r = {n_r} steps and "
-                           f"the mean ratio stopped falling ({ratio2:.3g}, {ratio1:.3g}, "
+                           f"{move:.3g} m over windows {k - 2}..{k} ({_spans(spans[-3:], n_r)}) "
+                           f"and the mean ratio stopped falling ({ratio2:.3g}, {ratio1:.3g}, "
                            f"{mean_r:.3g})")
     return None
+
+
+def _spans(spans, n_r) -> str:
+    """Window lengths for a reason: "N_r = 1900 steps" when they are all N_r, else e.g.
+    "2, 4 and 8 N_r, N_r = 1900 steps"."""
+    n = [f"{x / n_r:g}" for x in spans]
+    if set(n) == {"1"}:
+        return f"N_r = {n_r} steps"
+    return f"{', '.join(n[:-1])} and {n[-1]} N_r, N_r = {n_r} steps"
 
 
 def _cracks(model) -> int:
