@@ -6,7 +6,7 @@ judge gave can be checked against a much longer run.
     .venv/bin/python benchmarks/trials/long_budget_check.py CASE "MEMBER LABEL" --factor 8
         [--judge budget|response]
 
-Writes results/trials/long_budget_<case>_<label>_x<factor>.json.
+Writes results/benchmarks/long_budget_<case>_<label>_x<factor>_<judge>.json.
 """
 from __future__ import annotations
 
@@ -43,12 +43,14 @@ def main(argv=None):
            "stages": [{k: s[k] for k in s if k in ("kind", "verdict", "steps", "points")}
                       for s in run.get("stages", [])],
            "search": {k: run["search"][k] for k in run["search"]
-                      if k in ("levels", "verdicts", "steps", "point_ux", "point_uy",
+                      if k in ("level", "verdict", "steps", "point_ux", "point_uy",
                                "failure", "last_stable")} if run.get("search") else None}
     print(json.dumps(out, indent=1, default=str))
-    name = f"long_budget_{a.case}_{a.label.replace(' ', '_').replace(',', '')}_x{a.factor:g}"
-    Path("results/trials").mkdir(parents=True, exist_ok=True)
-    Path(f"results/trials/{name}.json").write_text(json.dumps(out, indent=1, default=str))
+    name = (f"long_budget_{a.case}_{a.label.replace(' ', '_').replace(',', '')}"
+            f"_x{a.factor:g}_{a.judge}")
+    folder = Path("results/benchmarks")
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / f"{name}.json").write_text(json.dumps(out, indent=1, default=str))
 
 
 if __name__ == "__main__":
