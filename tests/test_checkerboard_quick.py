@@ -92,13 +92,12 @@ def test_t_at_failure_is_the_thesis_magnitude(quick):
     assert rows[76.0] is not None and 0.0125 <= rows[76.0] <= 0.05
 
 
-@pytest.mark.xfail(strict=True, reason="measured (2026-11-30): without support the quick "
-                   "slope also stands at T 0.5, 0.2, 0.1 MPa (UCS 30), every level and every solve "
-                   "before them in equilibrium (8,100, 5,500, 5,300 steps), though the "
-                   "back-analysis run lowered from T = c fails at 1.0. Before the kinetic-damping "
-                   "fix (kinetic_adaptive) the solves ended moving at their caps and the "
-                   "unsupported run failed at 0.2 MPa with 2 and 4 x the steps: that was the "
-                   "budget's answer (docs/cases/checkerboard.md)")
+@pytest.mark.xfail(strict=False, reason="host-dependent (2026-11-30): on one AMD EPYC host "
+                   "the quick slope without support also stands at T 0.5, 0.2, 0.1 MPa (UCS 30), "
+                   "every level in equilibrium; on another (same code, another kernel build) it "
+                   "fails at 0.2 MPa at 1x and 2x the steps, under both judges, while the "
+                   "supported one stands: round-off decides it, so it is neither a finding nor "
+                   "a strict expectation (docs/cases/checkerboard.md)")
 def test_unsupported_slope_fails_supported_stands(quick):
     """Thesis 7.8: at UCS 30 with T lowered 0.8 -> 0.5 -> 0.2 -> 0.1 MPa the slope with cables
     and shotcrete stands, the one without fails."""
