@@ -156,9 +156,8 @@ class SolveSettings:
         solve has failed (None: no such test).
     creep : m; displacement increments below this do not count as movement: in the budget
         judge's end test (``output.monitor.verdict``; None: 1e-3 of the median block radius,
-        or 0 for watched points); in the response judge's (``workflow.response``; None: 1e-3
-        of the median block radius, at least 1e-6 of it), per N_r, the least speed of a
-        mechanism and of a block that is not slow at the ratio test.
+        or 0 for watched points), and per window of N_r in the response judge's
+        (``workflow.response``; None: 1e-3 of the median block radius, at least 1e-6 of it).
     watch : history-point names judged instead of every block (empty: every block).
     settle : stop early as "settled" once the motion has died out (``monitor.settled``).
     judge : "response": "equilibrium", "failing" or "undecided", judged over windows of the

@@ -48,16 +48,11 @@ checks:
 - "equilibrium": the ratio falls to ``ratio`` at a check while the judged blocks (points)
   move slowly: at the fastest one's present speed it would move at most ``creep`` in N_r
   steps (a block sliding steadily at its limit has no unbalanced force, but it is not at
-  rest); or, at the end of a window in which no bond broke, from the third window on,
-  ``v_k <= v_k-1 / 2`` and ``v_k-1 <= v_k-2 / 2`` (a speed that halves every window is
-  dying out: over equal windows the movement still to go is at most ``move_k``, a geometric
-  series, and where the windows grow the motion decays at least as ``1 / t``, a deceleration
-  FLAC and UDEC users read as a stable slope; twice, because one halving right after the
-  load's first transient, or by the jitter of a slow slide, is not yet a decay), or
-  ``v_k <= min(floor, v_k-1)`` with
-  ``floor`` = ``REST`` times the median block radius (round-off, not movement). A speed
-  below ``creep`` that does not halve is not rest: a block sliding past its yielding bolts
-  at 0.1-0.2 mm per N_r was read so before 2026-11-30 (docs/history.md);
+  rest); or, from the second window on, at
+  the end of a window in which no bond broke, ``move_k <= move_k-1 / 2`` (a movement that at
+  least halves every window, each at least as long as the one before, has at most ``move_k``
+  still to go, a geometric series, so the model comes to rest within that of where it is) or
+  ``v_k <= min(creep, v_k-1)`` (a speed below ``creep`` per N_r that is not growing);
 - "failing": the judged displacement since the solve began passes ``failure_displacement``;
   or, from the third window on, a mechanism over two windows: ``v > creep`` and
   ``v_j >= 0.8 v_j-1`` (the velocity does not decay) while ``R_j >= 0.9 R_j-1`` (the
@@ -69,7 +64,8 @@ checks:
 - "undecided": neither within ``windows`` windows (20: at most 129 N_r). It is never
   counted as standing.
 
-Within the even windows the speeds are the movements (``v_k`` is ``move_k``).
+Within the even windows the rules are those of equal windows (``v_k`` is ``move_k``), so a
+verdict reached by window 3 does not depend on the growth.
 
 Why mean positions: a block oscillating about a stable position has a mean that stays put,
 while a mechanism's mean moves on by its velocity times N_r; a window's end points alone would
@@ -79,11 +75,10 @@ times) is "failing" while it lasts, as it is under the ratio test of FLAC; the g
 shorten what it can be: one that has decayed by e over ``tau`` steps slows by more than a fifth
 between windows once they are about ``tau / 2`` long.
 
-``creep`` (m per N_r) defaults to 1e-3 of the median block radius, for blocks and watched
-points alike: the least speed of a mechanism, and the speed under which a block counts as slow
-in the ratio test. It is never less than ``REST`` = 1e-6 of the radius: below that a movement
-is round-off (a watched point at rest drifts by 1e-12 m a window, and a creep of 0 would call
-that a mechanism and never let a fast block count as slow).
+``creep`` (m) defaults to 1e-3 of the median block radius, for blocks and watched points alike,
+per window, and is never less than ``REST`` = 1e-6 of it: below that a movement is round-off
+(a watched point at rest drifts by 1e-12 m a window, and a creep of 0 would call that a
+mechanism and never let a fast block count as slow).
 The verdict does not depend on the cap: a model that decides does so at the same window
 whatever ``windows`` is (tests/test_response_verdict.py).
 """
@@ -204,7 +199,6 @@ def judge(model, st, n_r, check, moved, trace) -> monitor.SolveResult:
     since the solve began (m); ``trace``: (steps, displacements) lists the checks append to."""
     size = float(np.median(model.props.radius))
     creep = max(st.creep if st.creep is not None else 1e-3 * size, REST * size)
-    floor = REST * size                              # a movement below this is round-off
     what = "a watched point" if st.watch else "a block"
     steps, disp = trace
     fd = st.failure_displacement
@@ -237,8 +231,8 @@ def judge(model, st, n_r, check, moved, trace) -> monitor.SolveResult:
         # movement, from the start, counted over its own length as before)
         gap = span if k == 1 else (spans[-2] + span) / 2
         now = (move, move * n_r / gap, mean_r)
-        verdict = _window_verdict(k, now, _cracks(model) - cracks0, before, (creep, floor),
-                                  n_r, what, spans)
+        verdict = _window_verdict(k, now, _cracks(model) - cracks0, before, creep, n_r, what,
+                                  spans)
         if verdict is not None:
             return _result(verdict[0], done, r, disp, n_r, verdict[1])
         before.append(now)
@@ -248,24 +242,18 @@ def judge(model, st, n_r, check, moved, trace) -> monitor.SolveResult:
                    f"{before[-1][0]:.3g} m)")
 
 
-def _window_verdict(k, now, broke, before, speeds, n_r, what, spans):
+def _window_verdict(k, now, broke, before, creep, n_r, what, spans):
     """(verdict, reason) at the end of window ``k``, or None to go on (module docstring).
     ``now`` and each of ``before`` (the windows before): (move m, speed m per N_r, mean
-    ratio); ``speeds``: (creep, round-off floor), m per N_r; ``spans``: the steps of windows
-    1..k."""
+    ratio); ``spans``: the steps of windows 1..k."""
     if not before:
         return None
-    creep, floor = speeds
     move, v, mean_r = now
     move1, v1, ratio1 = before[-1]
-    halved = len(before) >= 2 and v <= 0.5 * v1 and v1 <= 0.5 * before[-2][1]
-    if broke == 0 and halved:
-        return "equilibrium", (f"coming to rest: {what} moved {before[-2][0]:.3g}, "
-                               f"{move1:.3g} and {move:.3g} m over windows {k - 2}..{k} "
-                               f"({_spans(spans[-3:], n_r)}), no bond broke")
-    if broke == 0 and v <= min(floor, v1):
-        return "equilibrium", (f"at rest: {what} moved {move:.3g} m over window {k}, "
-                               f"round-off ({_spans(spans[-1:], n_r)})")
+    if broke == 0 and (move <= 0.5 * move1 or v <= min(creep, v1)):
+        return "equilibrium", (f"coming to rest: {what} moved {move:.3g} m over window {k} "
+                               f"against {move1:.3g} m before ({_spans(spans[-2:], n_r)}, creep "
+                               f"{creep:.3g} m per N_r), no bond broke")
     if len(before) < 2:
         return None
     move2, v2, ratio2 = before[-2]
@@ -284,8 +272,6 @@ def _spans(spans, n_r) -> str:
     n = [f"{x / n_r:g}" for x in spans]
     if set(n) == {"1"}:
         return f"N_r = {n_r} steps"
-    if len(n) == 1:
-        return f"{n[0]} N_r, N_r = {n_r} steps"
     return f"{', '.join(n[:-1])} and {n[-1]} N_r, N_r = {n_r} steps"
 
 
