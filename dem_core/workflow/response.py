@@ -75,8 +75,8 @@ times) is "failing" while it lasts, as it is under the ratio test of FLAC; the g
 shorten what it can be: one that has decayed by e over ``tau`` steps slows by more than a fifth
 between windows once they are about ``tau / 2`` long.
 
-``creep`` (m) defaults to 1e-3 of the median block radius, for blocks and watched points alike,
-per window, and is never less than ``REST`` = 1e-6 of it: below that a movement is round-off
+``creep`` (m per N_r) defaults to 1e-3 of the median block radius, for blocks and watched
+points alike, and is never less than ``REST`` = 1e-6 of it: below that a movement is round-off
 (a watched point at rest drifts by 1e-12 m a window, and a creep of 0 would call that a
 mechanism and never let a fast block count as slow).
 The verdict does not depend on the cap: a model that decides does so at the same window
@@ -194,8 +194,8 @@ def next_span(k: int, n_r: int, span: int, before: list) -> int:
 
 
 def judge(model, st, n_r, check, moved, trace) -> monitor.SolveResult:
-    """Run windows of ``n_r`` steps (checked every ``check``) until the verdict (module
-    docstring). ``st``: the solve's ``SolveSettings``; ``moved()``: the judged displacement
+    """Run windows (``next_span``: N_r = ``n_r`` steps, growing after one that slowed;
+    checked every ``check``) until the verdict (module docstring). ``st``: the solve's ``SolveSettings``; ``moved()``: the judged displacement
     since the solve began (m); ``trace``: (steps, displacements) lists the checks append to."""
     size = float(np.median(model.props.radius))
     creep = max(st.creep if st.creep is not None else 1e-3 * size, REST * size)
