@@ -69,12 +69,18 @@ def members(case, v, judge, factor):
     return out
 
 
-def measure(name: str, workers: int, judges=("budget", "response")) -> dict:
+def quick_variant(name: str) -> tuple:
+    """(the case module, its quick variant without the continuum)."""
     from comparisons.cli import custom_variant
-    from comparisons.sweep import run_sweep
     case = importlib.import_module(f"comparisons.{name}")
     v = custom_variant(case, "quick", [])
     v["continuum"] = False if "continuum" in v else v.get("continuum")
+    return case, v
+
+
+def measure(name: str, workers: int, judges=("budget", "response")) -> dict:
+    from comparisons.sweep import run_sweep
+    case, v = quick_variant(name)
     out = {"case": name, "members": []}
     runs = {}
     for judge in judges:

@@ -209,7 +209,6 @@ def test_a_block_pulled_past_a_cables_capacity_is_failing_under_the_response_jud
     assert res.verdict == "failing"
 
 
-
 def test_a_window_grows_only_after_one_that_slowed():
     """N_r for the first three windows; then twice the window before (up to LONGEST N_r)
     after a window slower than the one before it, else as long as that one."""

@@ -19,9 +19,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
-import importlib  # noqa: E402
-
-from verdict_budgets import answer, members  # noqa: E402
+from verdict_budgets import answer, members, quick_variant  # noqa: E402
 
 
 def main(argv=None):
@@ -31,10 +29,7 @@ def main(argv=None):
     ap.add_argument("--factor", type=float, default=8.0)
     ap.add_argument("--judge", default="budget", choices=["budget", "response"])
     a = ap.parse_args(argv)
-    from comparisons.cli import custom_variant
-    case = importlib.import_module(f"comparisons.{a.case}")
-    v = custom_variant(case, "quick", [])
-    v["continuum"] = False if "continuum" in v else v.get("continuum")
+    case, v = quick_variant(a.case)
     m, = [m for m in members(case, v, a.judge, a.factor) if m["label"] == a.label]
     t0 = time.perf_counter()
     run = case.run_member(m)
