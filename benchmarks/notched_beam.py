@@ -143,6 +143,10 @@ def main():
     ap.add_argument("--mode-ii-ratio", type=float, default=10.0, help="G_II / G_I")
     ap.add_argument("--widths", type=float, nargs="+", default=[1, 2, 4, 8],
                     help="--size-effect: W / l_ch")
+    ap.add_argument("--resolution", type=float, default=4.0,
+                    help="--size-effect: blocks per l_ch (h = l_ch / resolution)")
+    ap.add_argument("--periods", type=int, default=20,
+                    help="bending periods to the expected peak (loading rate)")
     ap.add_argument("--figure", nargs="+", metavar="NAME",
                     help="run nothing: draw these result files into notched_beam.png")
     a = ap.parse_args()
@@ -157,8 +161,8 @@ def main():
         l_ch = E / (1 - NU ** 2) * G_I / T ** 2
         for k in a.widths:
             W = k * l_ch
-            h = min(l_ch / 4, W / 10)          # l_ch resolved, and 10 blocks across at least
-            r = run(W, h, 1, G_I, quick=a.quick)
+            h = min(l_ch / a.resolution, W / 10)     # l_ch resolved, 10 blocks across at least
+            r = run(W, h, 1, G_I, periods=a.periods, quick=a.quick)
             r["P_LEFM"] = p_lefm(W, G_I)
             r["sigma_N"] = 1.5 * r["P_peak"] * 4 * W / W ** 2
             print(json.dumps({k2: v for k2, v in r.items() if k2 != "curve"}), flush=True)
@@ -168,7 +172,7 @@ def main():
         for G_I in a.G:
             for h in a.sizes:
                 for seed in range(1, a.seeds + 1):
-                    r = run(a.W, h * 1e-3, seed, G_I, quick=a.quick)
+                    r = run(a.W, h * 1e-3, seed, G_I, periods=a.periods, quick=a.quick)
                     print(json.dumps({k: v for k, v in r.items() if k != "curve"}), flush=True)
                     runs.append(r)
         name = a.name or "notched_beam"

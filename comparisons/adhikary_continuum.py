@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from comparisons.centrifuge import continuum_critical_g, continuum_stages
+from comparisons.centrifuge import continuum_critical_g, continuum_search_step, continuum_stages
 from comparisons.scenes import adhikary as scene
 
 RUNAWAY = 0.02   # m
@@ -37,7 +37,8 @@ def continuum_scene(h: float, g_max: float, p: scene.AdhikaryParams | None = Non
     """The case's scene with its continuum section and stages (module docstring)."""
     p = p or scene.AdhikaryParams()
     return replace(scene.scene(p), stages=continuum_stages(g_max, RUNAWAY),
-                   continuum=continuum_section(p, h))
+                   continuum={**continuum_section(p, h),
+                              "search_step": continuum_search_step(g_max)})
 
 
 def run_continuum(h: float, g_max: float, result) -> dict:

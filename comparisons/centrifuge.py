@@ -345,6 +345,13 @@ def _crack_points(ax, scene, run, rupture_line):
 CONTINUUM_G_TOL = 1.0    # g: resolution of the continuum's critical g
 
 
+def continuum_search_step(g_max: float) -> dict:
+    """The continuum section's ``search_step`` of a centrifuge case: the critical-g search's
+    first and largest step, a tenth of ``g_max`` and at least 1 g (the step the hand-built
+    columns used before they came from the scenes)."""
+    return {"g": max(1.0, float(g_max) / 10.0)}
+
+
 def continuum_stages(g_max: float, runaway: float) -> list:
     """The continuum's stage list of a centrifuge case (``continuum_critical_g``): gravity at
     1 g, then raised towards ``g_max`` until a limit (``continuum_ref.ssr.critical_g``,

@@ -33,13 +33,15 @@ from dem_core.workflow.stages import Excavate, FactorOfSafety, Gravity
 MASS = dict(cohesion=5e6, friction=30.0, tensile_strength=1e6, dilation=0.0)
 F_MAX = 20.0
 F_TOL = 0.05         # resolution of the factor of safety
+F_STEP = 1.0         # the search's first and largest step in F (the section's search_step)
 
 
 def continuum_section(p: scene.ToppleParams, h: float) -> dict:
     """The scene's "continuum" section: mesh size ``h`` (m) and the rock mass of the module
     docstring for every region, as a file entry (Pa, degrees)."""
     return {"h": float(h), "materials": {"*": {"kind": "mohr_coulomb", "E": p.block_E,
-                                               "nu": p.block_nu, **MASS}}}
+                                               "nu": p.block_nu, **MASS}},
+            "search_step": {"F": F_STEP}}
 
 
 def continuum_stages() -> list:

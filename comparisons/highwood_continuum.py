@@ -36,6 +36,7 @@ from dem_core.workflow.stages import FactorOfSafety, Gravity
 
 F_MAX = 20.0
 F_TOL = 0.05         # resolution of the factor of safety
+F_STEP = 1.0         # the search's first and largest step in F (the section's search_step)
 
 
 def equivalent_rock_mass(p: scene.HighwoodParams) -> dict:
@@ -49,7 +50,7 @@ def continuum_section(p: scene.HighwoodParams, h: float) -> dict:
     docstring as a file entry (Pa, degrees)."""
     rock = {"kind": "mohr_coulomb", "E": p.block_E, "nu": p.block_nu, "dilation": 0.0,
             **equivalent_rock_mass(p)}
-    return {"h": float(h), "materials": {"rock": rock}}
+    return {"h": float(h), "materials": {"rock": rock}, "search_step": {"F": F_STEP}}
 
 
 def continuum_stages(p: scene.HighwoodParams) -> list:

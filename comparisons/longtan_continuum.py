@@ -25,7 +25,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from comparisons.centrifuge import continuum_critical_g, continuum_stages
+from comparisons.centrifuge import continuum_critical_g, continuum_search_step, continuum_stages
 from comparisons.scenes import longtan as scene
 from dem_core.geometry import GeometrySpec
 
@@ -54,7 +54,9 @@ def continuum_scene(h: float, g_max: float, p: scene.LongtanParams | None = None
     docstring)."""
     p = p or scene.LongtanParams()
     return replace(scene.scene(p), geometry=GeometrySpec([scene.slope_region()]),
-                   stages=continuum_stages(g_max, RUNAWAY), continuum=continuum_section(p, h))
+                   stages=continuum_stages(g_max, RUNAWAY),
+                   continuum={**continuum_section(p, h),
+                              "search_step": continuum_search_step(g_max)})
 
 
 def run_continuum(h: float, g_max: float, result) -> dict:

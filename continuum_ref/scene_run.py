@@ -11,7 +11,8 @@ g-levels in multiples of 9.81 m/s^2.
   stage set at 0 g: gravity set, the field equilibrated, displacements zeroed.
 - "raise_gravity": critical g, gravity raised towards ``max(g_levels)`` until a limit
   (``ssr.critical_g``; resolution ``refine_to`` or 0.05 g, ``failure_displacement`` (m) as the
-  runaway displacement); from 0 g, gravity is first solved at ``g_levels[0]``.
+  runaway displacement; first and largest step the section's ``search_step["g"]``, else a
+  tenth of the range); from 0 g, gravity is first solved at ``g_levels[0]``.
 - "insitu": the stress field at every quadrature point (``from_scene.apply_insitu``),
   equilibrated by one Newton solve under the current gravity, displacements zeroed.
 - "excavate": the cells of a region or geometry group (or of a scene group
@@ -22,8 +23,8 @@ g-levels in multiples of 9.81 m/s^2.
 - "solve": one Newton solve at the current loads (the continuum is static: every stage ends
   in equilibrium or fails).
 - "factor_of_safety": strength reduction of every Mohr-Coulomb region from F = 1 to
-  ``max(f_levels)`` (``ssr.factor_of_safety``; resolution ``refine_to`` or 0.0025; ``flow``
-  "native" or "davis"); the stage's contact ``materials`` are not used. A Hoek-Brown region
+  ``max(f_levels)`` (``ssr.factor_of_safety``; resolution ``refine_to`` or 0.0025; first and
+  largest step the section's ``search_step["F"]``, else 0.25; ``flow`` "native" or "davis"); the stage's contact ``materials`` are not used. A Hoek-Brown region
   enters as its equivalent Mohr-Coulomb, which needs ``sigma3_max`` (Pa) in its entry.
 - "change_material" and "strength_schedule": a change of the DEM's contact material reaches
   the regions whose continuum material is derived from the contact materials (kind
@@ -60,6 +61,7 @@ MATERIAL_STAGES = ("change_material", "strength_schedule")   # through dem_rock_
 SCHEDULE_TOL = 0.01        # of the schedule's range, without refine_to
 DEFAULT_G_TOL = 0.05       # g, resolution of a critical-g search without refine_to
 DEFAULT_F_TOL = 0.0025     # resolution of a factor of safety without refine_to
+DEFAULT_F_STEP = 0.25      # first and largest F step without the section's search_step
 STOPS = ("failed", "limit")
 
 
@@ -363,6 +365,7 @@ class _Runner:
         self.regions = list(materials)                 # the model's material order
         self.mats, self.fos_by_region = dict(materials), dict(fos_materials)
         self.contact_materials = dict(scene.materials)  # as the stages change them
+        self.search_step = dict((scene.continuum or {}).get("search_step") or {})
         self.insitu_pending = False        # a field set at 0 g, equilibrated by gravity
         self._trial = None                 # a schedule's contact materials at its last level
 
@@ -445,7 +448,8 @@ class _Runner:
                 return self._solved(first)
         if levels[-1] <= m.g_level:
             return "stable", m.g_level, None, f"already at {m.g_level:g} g", {}
-        limit = critical_g(m, levels[-1], tol=st.refine_to or DEFAULT_G_TOL,
+        limit = critical_g(m, levels[-1], first_step=self.search_step.get("g"),
+                           tol=st.refine_to or DEFAULT_G_TOL,
                            runaway=st.failure_displacement)
         return self._limit(limit)
 
@@ -463,6 +467,7 @@ class _Runner:
         if not f_max > 1.0:
             return "failed", None, None, f"f_levels {list(st.f_levels)} end at or below 1", {}
         limit = factor_of_safety(m, self.fos, f_max=f_max, f_start=1.0,
+                                 first_step=self.search_step.get("F", DEFAULT_F_STEP),
                                  tol=st.refine_to or DEFAULT_F_TOL,
                                  runaway=st.failure_displacement, flow=self.flow)
         return self._limit(limit)

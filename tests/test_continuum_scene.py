@@ -97,6 +97,12 @@ def test_a_bad_continuum_section_names_the_key():
     with pytest.raises(ValueError, match="flow must be one of"):
         Scene(**{**scene.__dict__, "continuum": {"h": 1.0, "materials": {"*": ROCK},
                                                  "flow": "plastic"}})
+    with pytest.raises(ValueError, match="search_step F must be finite and > 0, got -0.5"):
+        Scene(**{**scene.__dict__, "continuum": {"h": 1.0, "materials": {"*": ROCK},
+                                                 "search_step": {"F": -0.5}}})
+    with pytest.raises(ValueError, match="did you mean 'g'"):
+        Scene(**{**scene.__dict__, "continuum": {"h": 1.0, "materials": {"*": ROCK},
+                                                 "search_step": {"gg": 1.0}}})
 
 
 def tiny_scene():
@@ -151,6 +157,19 @@ def test_an_insitu_field_set_at_zero_g_is_balanced_by_gravity_and_a_g_search_run
     assert [r.verdict for r in records] == ["set", "equilibrium", "stable"]
     assert records[1].max_displacement < 1e-6          # the field balances the weight, m
     assert records[2].value == pytest.approx(3.0)      # elastic: stands to the range's end
+    assert records[2].detail["steps"] == 10            # default step: a tenth of 1 -> 3 g
+
+
+def test_the_search_step_of_the_section_is_the_searchs_first_and_largest_step():
+    from continuum_ref.scene_run import run_scene
+    from dem_core.workflow.stages import RaiseGravity
+
+    scene = tiny_scene()
+    scene.continuum = {**scene.continuum, "search_step": {"g": 0.5, "F": 0.5}}
+    scene.stages = [Gravity(1.0), RaiseGravity((2.0, 3.0))]
+    ramp = run_scene(scene)[-1]
+    assert ramp.verdict == "stable" and ramp.value == pytest.approx(3.0)
+    assert ramp.detail["steps"] == 4                   # 1.5, 2.0, 2.5, 3.0 g
 
 
 def test_method_continuum_builds_no_dem_model(tmp_path, capsys, monkeypatch):

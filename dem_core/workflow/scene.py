@@ -56,7 +56,10 @@ SOLVER_KEYS = set(SCENE_SOLVER_KEYS)
 # The optional "continuum" section (``check_continuum``): mesh size h (m), the rock-mass
 # material of each region (name or fnmatch pattern -> {"kind": ..., fields}) and the flow rule
 # of a factor of safety (``continuum_ref.ssr``); ``continuum_ref.scene_run`` runs it.
-CONTINUUM_KEYS = ("h", "materials", "flow", "refine")
+CONTINUUM_KEYS = ("h", "materials", "flow", "refine", "search_step")
+# "search_step" (optional): {"g": g, "F": F}, the first and largest step of the continuum's
+# critical-g and factor-of-safety searches (continuum_ref.scene_run)
+SEARCH_STEP_KEYS = ("g", "F")
 # "refine" (optional): a graded mesh, h within d_near (m) of any of the points [[x, y], ...],
 # growing linearly to h_far (m) at d_far (continuum_ref.mesh.refine_near)
 REFINE_KEYS = ("points", "h_far", "d_near", "d_far")
@@ -102,8 +105,9 @@ class Scene:
     scene (``continuum_ref.scene_run``): {"h": mesh size (m), "materials": {region name or
     pattern: {"kind": "elastic", "mohr_coulomb", "hoek_brown" or "dem_rock_mass", fields}},
     "flow": "native" or "davis", optionally "refine": {"points": [[x, y], ...], "h_far",
-    "d_near", "d_far"} for a mesh graded from h near the points to h_far} (``check_continuum``,
-    docs/scenes.md); None: DEM only.
+    "d_near", "d_far"} for a mesh graded from h near the points to h_far and "search_step":
+    {"g": g, "F": F}, the first and largest step of the critical-g and factor-of-safety
+    searches} (``check_continuum``, docs/scenes.md); None: DEM only.
     """
 
     geometry: GeometrySpec
@@ -391,8 +395,8 @@ def contact_material_names(geometry: GeometrySpec) -> list:
 def check_continuum(section, regions) -> None:
     """Check a scene's "continuum" section (``CONTINUUM_KEYS``): ``h`` a mesh size > 0 (m),
     ``materials`` {region name or fnmatch pattern: {"kind": one of ``CONTINUUM_MATERIALS``,
-    its fields}} covering every region of ``regions`` (names), each key matching one, and
-    ``flow`` one of ``CONTINUUM_FLOWS``. ValueError naming the bad key; the values' ranges
+    its fields}} covering every region of ``regions`` (names), each key matching one,
+    ``flow`` one of ``CONTINUUM_FLOWS`` and ``search_step`` {"g": > 0, "F": > 0}. ValueError naming the bad key; the values' ranges
     are checked when the materials are built (``continuum_ref.scene_run``)."""
     import fnmatch
 
@@ -403,6 +407,14 @@ def check_continuum(section, regions) -> None:
                          f"{section['flow']!r}")
     if section.get("refine") is not None:
         _check_refine(section["refine"], float(section["h"]))
+    if section.get("search_step") is not None:
+        step = section["search_step"]
+        if not isinstance(step, dict):
+            raise ValueError(f"continuum: search_step must be a mapping with keys among "
+                             f"{SEARCH_STEP_KEYS}, got {step!r}"[:300])
+        check_keys(step, SEARCH_STEP_KEYS, "continuum: search_step")
+        for k, v in step.items():
+            _positive(f"continuum: search_step {k}", v)
     mats = section["materials"]
     if not isinstance(mats, dict) or not mats:
         raise ValueError(f"continuum: materials must be a mapping region (or pattern) -> "
