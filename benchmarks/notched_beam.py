@@ -171,7 +171,9 @@ def main():
     ap.add_argument("--periods", type=int, default=20,
                     help="bending periods to the expected peak (loading rate)")
     ap.add_argument("--figure", nargs="+", metavar="NAME",
-                    help="run nothing: draw these result files into notched_beam.png")
+                    help="run nothing: draw these result files into <--png>.png (size-effect "
+                         "files into notched_beam_size_effect.png)")
+    ap.add_argument("--png", default="notched_beam", help="--figure: the figure's file name")
     a = ap.parse_args()
     MODE_II["ratio"] = a.mode_ii_ratio
     OUT.mkdir(exist_ok=True)
@@ -181,7 +183,7 @@ def main():
         if sized:
             size_effect_figure(sized, OUT / "notched_beam_size_effect.png")
         if len(sized) < len(named):
-            figure([n for n in named if n not in sized], OUT / "notched_beam.png")
+            figure([n for n in named if n not in sized], OUT / f"{a.png}.png")
         return
     runs = []
     if a.size_effect:
