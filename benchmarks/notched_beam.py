@@ -20,7 +20,7 @@ The shared edges are end springs (the default), not edge elements (``beam_model`
 Reported per run: P_peak (N/m), the largest load held over five readings (the peak of their
 running median, ``held_peak``), each reading the supports' reaction averaged over a tenth of
 the beam's first bending period (``SUBSAMPLES`` samples). When a crack jumps, the beam shakes
-and single readings can rise 20-30 % above the load it holds for one or two readings; the
+and single readings can rise 10-25 % above the load it holds for one or two readings; the
 largest reading is kept as P_peak_mean and the largest single sample as P_peak_raw. Then
 the platen displacement at the peak, the blocks, steps and run
 time; per block size the mean and spread over the seeds; with --size-effect the nominal
