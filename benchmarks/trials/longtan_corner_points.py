@@ -27,6 +27,8 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 
 import dem_core.contact.detection as det  # noqa: E402
 import centrifuge_resolution as cr  # noqa: E402
+sys.path.insert(0, str(ROOT / "benchmarks" / "trials"))
+from new_contact_lengths import corner_to_corner  # noqa: E402
 import outdir  # noqa: E402
 
 AS_MADE = det._new_rows
@@ -36,10 +38,7 @@ POINT = 0.01          # a corner-to-corner contact's length, as a fraction of it
 def corner_points(p, s, cand, wv, margin, cut):
     """``_new_rows`` with the corner-to-corner contacts' lengths scaled by ``POINT``."""
     point_b, normal_b, L = AS_MADE(p, s, cand, wv, margin, cut)
-    off = p.vertex_offsets
-    corner = np.array([np.hypot(*(wv[off[b]:off[b + 1]] - wv[v]).T).min() < margin
-                       for b, v in zip(cand[:, 2], cand[:, 1])], dtype=bool)
-    return point_b, normal_b, np.where(corner, L * POINT, L)
+    return point_b, normal_b, np.where(corner_to_corner(p, cand, wv, margin), L * POINT, L)
 
 
 def main():

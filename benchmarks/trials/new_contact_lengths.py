@@ -51,14 +51,20 @@ def _strongest(p, table, default, cand):
     return np.where(chosen >= 0, chosen, default).astype(np.int32)
 
 
+def corner_to_corner(p, cand, wv, margin):
+    """Per candidate of ``_new_rows``: True where A's vertex lies within ``margin`` of a vertex
+    of B (a corner meeting a corner)."""
+    off = p.vertex_offsets
+    return np.array([np.hypot(*(wv[off[b]:off[b + 1]] - wv[v]).T).min() < margin
+                     for b, v in zip(cand[:, 2], cand[:, 1])], dtype=bool)
+
+
 def run(scale, cut, strong):
     corner = []
 
     def rows(p, s, cand, wv, margin, _cut):
         point_b, normal_b, L = AS_MADE(p, s, cand, wv, margin, cut)
-        off = p.vertex_offsets
-        corner.extend(np.hypot(*(wv[off[b]:off[b + 1]] - wv[v]).T).min() < margin
-                      for b, v in zip(cand[:, 2], cand[:, 1]))
+        corner.extend(corner_to_corner(p, cand, wv, margin))
         return point_b, normal_b, L * scale
 
     det._new_rows, det._touched_material = rows, (_strongest if strong else TOUCHED)
