@@ -288,7 +288,7 @@ def _window_verdict(k, now, broke, before, creep, n_r, what, spans, falls=True):
     if broke == 0 and falls and (move <= 0.5 * move1 or v <= min(creep, v1)):
         return "equilibrium", (f"coming to rest: {what} moved {move:.3g} m over window {k} "
                                f"against {move1:.3g} m before ({_spans(spans[-2:], n_r)}, creep "
-                               f"{creep:.3g} m per N_r), no bond broke")
+                               f"{creep:.3g} m per N_r), the ratio decaying, no bond broke")
     if len(before) < 2:
         return None
     move2, v2, ratio2 = before[-2]
