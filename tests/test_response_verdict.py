@@ -220,7 +220,7 @@ def test_a_window_grows_only_after_one_that_slowed():
     assert next_span(4, 100, 100, slowing) == 200
     assert next_span(4, 100, 400, speeding) == 400              # never shorter
     assert next_span(9, 100, 800, slowing) == LONGEST * 100
-    # a mechanism waiting for the failure displacement: growing whatever the speeds
+    # a mechanism waiting to be seen again: growing whatever the speeds
     assert next_span(4, 100, 100, speeding, confirming=True) == 200
 
 
