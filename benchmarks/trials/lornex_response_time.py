@@ -42,11 +42,9 @@ def _from_rest(model):
 def _slip_held(model, elastic):
     from dem_core.contact.materials import material_table
     from dem_core.workflow import response
-    elastic(model)
-    strong = {k: replace(m, residual_cohesion=response.STRONG) for k, m in
-              model.materials.items()}
-    strong = {k: replace(m, tensile_strength=response.STRONG, cohesion=response.STRONG)
-              for k, m in strong.items()}
+    elastic(model)                      # closes open contacts at zero stress, as the library
+    strong = {k: replace(m, tensile_strength=response.STRONG, cohesion=response.STRONG,
+                         residual_cohesion=response.STRONG) for k, m in model.materials.items()}
     model.table = material_table(model.table.names, strong, model.unbreakable)
     _from_rest(model)
 
