@@ -91,6 +91,7 @@ class Model:
         self.energy_bank = np.zeros(len(energy.BANK))   # output.energy: dropped work, origin
         self.search_enabled = True
         self.response_steps = None             # N_r, steps (workflow.response), once measured
+        self.in_motion = False                 # the last judged solve did not end at rest
         self.gravity = np.zeros(2)             # m/s^2 (components.Gravity)
         self.load = np.zeros((blocks.n_blocks, 3))   # N/m, N m/m per block (components.Loads)
         self.servo_groups = []                 # (blocks, params row) (components.Servo)
@@ -258,7 +259,8 @@ class Model:
         if self.water is not None:
             self.water_faces = exposed_faces(self.blocks, p.active)
         self.update_timestep()
-        self.response_steps = None      # a new structure: its response time is measured anew
+        if not self.in_motion:          # a new structure: its response time is measured anew,
+            self.response_steps = None  # unless a mechanism is under way (workflow.response)
 
     def install(self, item):
         """Install support: a ``support.Cable`` (or bolt) or ``support.Liner``, or a list of

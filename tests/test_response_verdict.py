@@ -161,6 +161,23 @@ def test_a_stage_list_whose_excavation_fails_stops_there_and_says_so():
                                            "equilibrium"]
 
 
+def test_an_excavation_keeps_the_response_time_of_a_model_in_motion(tmp_path):
+    """A mechanism under way has no response time to measure (on the Lornex slope the
+    measurement stops at its cap), so an excavation after a solve that did not end at rest
+    keeps N_r; after one that came to rest it clears it (a new structure)."""
+    m = toe_held_block()
+    assert m.solve(judge="response").verdict == "equilibrium" and not m.in_motion
+    m.remove("toe")
+    assert m.response_steps is None
+    assert m.solve(judge="response").verdict == "failing" and m.in_motion
+    n_r = m.response_steps
+    m.save(tmp_path / "moving.npz")
+    again = Model.load(tmp_path / "moving.npz")
+    assert again.in_motion and again.response_steps == n_r
+    m.remove("block")
+    assert m.response_steps == n_r
+
+
 def test_a_liner_over_an_opening_is_judged_by_its_own_nodes():
     """The blocks are all held, so only the liner's nodes move: judged on the blocks alone the
     solve read "at rest" in its second window with the liner barely sagged."""

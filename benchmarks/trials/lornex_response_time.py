@@ -80,19 +80,65 @@ def probe(model, check):
               f"{int(act.sum())} blocks moved > 1 cm", flush=True)
 
 
+QUANTILES = (0.5, 0.8, 0.9, 0.95, 0.98, 0.99, 1.0)
+
+
+def quantiles(model, check, most=400_000):
+    """The library's measurement (intact contacts strong, broken ones as they are), printing
+    at each test point, for each quantile q of the blocks' movements, the q-quantile of the
+    movement since the test point before over the q-quantile of the movement since the load
+    step, and the step at which a rest test on that quantile would have passed."""
+    from dem_core.workflow import response
+    snap = model.snapshot()
+    response._elastic(model)
+    model.gravity = np.asarray(model.gravity, float) * (1 + response.LOAD_STEP)
+    start = response.positions(model, ())
+    last, done, point = start, 0, response.FIRST * check
+    quiet = {q: 0 for q in QUANTILES}
+    rest = {q: None for q in QUANTILES}
+    while done < most and any(v is None for v in rest.values()):
+        model.cycle(point - done)
+        done = point
+        now = response.positions(model, ())
+        tot, rec = np.hypot(*(now - start).T), np.hypot(*(now - last).T)
+        row = []
+        for q in QUANTILES:
+            a, b = float(np.quantile(tot, q)), float(np.quantile(rec, q))
+            quiet[q] = quiet[q] + 1 if b <= response.AT_REST * a else 0
+            if quiet[q] == 2 and rest[q] is None:
+                rest[q] = done
+            row.append(f"{q:g}: {b / a if a else 0:.3f} of {a:.3g}")
+        print(f"{done:7d} ratio {model.unbalanced_ratio():.2g}  " + "; ".join(row), flush=True)
+        last = now
+        point = check * int(np.ceil(response.GROWTH * point / check))
+    print("N_r by quantile:", rest, flush=True)
+    model.restore(snap)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--member", default="T=1 MPa")
+    ap.add_argument("--save", help="write the model at its first failing solve to this .npz")
+    ap.add_argument("--load", help="probe a model saved by --save (quantiles only)")
     args = ap.parse_args(argv)
     from dem_core.workflow import response
     from verdict_budgets import members, quick_variant
+    if args.load:
+        from dem_core.model import Model
+        model = Model.load(args.load)
+        quantiles(model, max(model.history.every, 100))
+        return
     judge = response.judge
 
     def probing(model, st, n_r, check, moved, trace):
         res = judge(model, st, n_r, check, moved, trace)
         print(f"solve: {res.verdict} at {res.steps} steps (N_r = {n_r})", flush=True)
         if res.verdict == "failing":
-            probe(model, check)
+            if args.save:
+                model.save(args.save)
+                quantiles(model, check)
+            else:
+                probe(model, check)
             os._exit(0)
         return res
 

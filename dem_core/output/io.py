@@ -49,8 +49,8 @@ FORMAT = 5
 RUNNING = ("props", "state", "contacts", "cracks", "materials", "table", "gravity", "load",
            "servo_groups", "time", "step", "dt", "critical_dt", "kinetic", "history",
            "points", "search_enabled", "water", "water_faces", "cables", "liners",
-           "zone_state", "response_steps", "energy_bank")
-_CLOCK = ("time", "step", "dt", "critical_dt", "search_enabled", "response_steps")
+           "zone_state", "response_steps", "in_motion", "energy_bank")
+_CLOCK = ("time", "step", "dt", "critical_dt", "search_enabled", "response_steps", "in_motion")
 
 _BS_ARRAYS = ("vertices", "vertex_offsets", "centroid", "area", "region_id", "edge_p0",
               "edge_p1", "edge_block_a", "edge_block_b", "edge_normal", "edge_length",
@@ -164,6 +164,7 @@ def read_model(path, material, water_table) -> dict:
     options = SolverOptions(**meta["options"], block_E=a["block_E"], block_nu=a["block_nu"])
     out = {"blocks": parts["blocks"], "options": options, "contacts": parts["contacts"],
            "response_steps": None,              # not in files before it was measured
+           "in_motion": False,                  # nor this, before a mechanism kept N_r
            **meta["clock"],
            "materials": {k: material(**v) for k, v in meta["materials"].items()},
            "servo_groups": parts["servo"], "points": parts["points"],

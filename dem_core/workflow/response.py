@@ -25,6 +25,14 @@ clears it), and a search measures it before its first level and again after each
 stood, so that each level is judged over the response time of the structure the level
 before left, cracks, open joints and all (on the Adhikary slope
 at 6 mm: 3,000 steps at rest before the ramp, 9,400 after the 3,100 cracks of 40 g).
+A model whose last judged solve did not end at rest (``Model.in_motion``: "failing" or
+"undecided", a stage list that goes on after a failure) keeps the N_r it has across an
+excavation: a mechanism under way has no response time to measure (its sliding, toppling
+and loose blocks never pass the rest test: on the Lornex slope after a failing mining solve
+the measurement stops at its 400,000-step cap with the intact contacts strong, with every
+touching crack held as well, and as the difference between the loaded model and the same
+model run without the load step), so the next solve is judged over the response time of the
+structure before it failed, until a solve comes to rest.
 
 What is judged: the watched points, or else everything that moves (the active blocks'
 centroids, the cables' and liners' nodes, the deformable blocks' gridpoints: a liner over an
@@ -211,8 +219,17 @@ def next_span(k: int, n_r: int, span: int, before: list, confirming=False) -> in
 
 def judge(model, st, n_r, check, moved, trace) -> monitor.SolveResult:
     """Run windows (``next_span``: N_r = ``n_r`` steps, growing after one that slowed;
-    checked every ``check``) until the verdict (module docstring). ``st``: the solve's ``SolveSettings``; ``moved()``: the judged displacement
-    since the solve began (m); ``trace``: (steps, displacements) lists the checks append to."""
+    checked every ``check``) until the verdict (module docstring). ``st``: the solve's
+    ``SolveSettings``; ``moved()``: the judged displacement since the solve began (m);
+    ``trace``: (steps, displacements) lists the checks append to. Sets ``model.in_motion``:
+    whether the verdict is other than "equilibrium" (an excavation then keeps N_r)."""
+    res = _windows(model, st, n_r, check, moved, trace)
+    model.in_motion = res.verdict != "equilibrium"
+    return res
+
+
+def _windows(model, st, n_r, check, moved, trace) -> monitor.SolveResult:
+    """``judge``'s windows and their verdict."""
     size = float(np.median(model.props.radius))
     creep = max(st.creep if st.creep is not None else 1e-3 * size, REST * size)
     what = "a watched point" if st.watch else "a block"
