@@ -5,7 +5,7 @@ judge, the verdict at ``max_steps``; every budget of the variant, its settings e
 time, ``dem_core/workflow/response.py``; ``windows`` times the factor).
 
     .venv/bin/python benchmarks/verdict_budgets.py [--cases adhikary underdip ...]
-        [--judges budget response] [--out NAME] [--reference]
+        [--judges budget response] [--solver JSON] [--out NAME] [--reference]
 
 Per member: steps (all stages), seconds, each stage's verdict, the stages that did not stand,
 the search's failure and last stable levels (its ``answer``); per judge: how many members give
@@ -69,18 +69,21 @@ def members(case, v, judge, factor):
     return out
 
 
-def quick_variant(name: str) -> tuple:
-    """(the case module, its quick variant without the continuum)."""
+def quick_variant(name: str, solver=None) -> tuple:
+    """(the case module, its quick variant without the continuum); ``solver``: Model options
+    over the variant's (e.g. ``{"step_estimate": "auto"}``)."""
     from comparisons.cli import custom_variant
     case = importlib.import_module(f"comparisons.{name}")
     v = custom_variant(case, "quick", [])
     v["continuum"] = False if "continuum" in v else v.get("continuum")
+    if solver:
+        v["solver"] = {**v.get("solver", {}), **solver}
     return case, v
 
 
-def measure(name: str, workers: int, judges=("budget", "response")) -> dict:
+def measure(name: str, workers: int, judges=("budget", "response"), solver=None) -> dict:
     from comparisons.sweep import run_sweep
-    case, v = quick_variant(name)
+    case, v = quick_variant(name, solver)
     out = {"case": name, "members": []}
     runs = {}
     for judge in judges:
@@ -109,12 +112,14 @@ def main(argv=None):
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--judges", nargs="+", default=["budget", "response"],
                     choices=["budget", "response"], help="run only these judges")
+    ap.add_argument("--solver", type=json.loads, default=None,
+                    help='Model options over each variant\'s, e.g. \'{"step_estimate": "auto"}\'')
     ap.add_argument("--out", default="verdict_budgets", help="the result file's name")
     ap.add_argument("--reference", action="store_true")
     args = ap.parse_args(argv)
-    result = {"machine": machine(), "cases": []}
+    result = {"machine": machine(), "solver": args.solver, "cases": []}
     for name in args.cases:
-        r = measure(name, args.workers, tuple(args.judges))
+        r = measure(name, args.workers, tuple(args.judges), args.solver)
         result["cases"].append(r)
         print(json.dumps({k: r[k] for k in r if k != "members"}), flush=True)
         for m in r["members"]:
