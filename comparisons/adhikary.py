@@ -78,7 +78,7 @@ VARIANTS = {
                   refine_to=None, max_steps=8_000, tensile=[1.1e6, 1.4e6, 0.8e6],
                   frictions=[25.0], bedding_cohesion=[5e3], conventional=True, continuum=True,
                   continuum_h=0.012, workers=2, threads=1, solver={"step_estimate": "eigen"},
-                  judge="budget"),
+                  judge="response"),
     # full: every run of the thesis (T = 0.8..1.4 MPa in 0.1 steps, flaw friction 32 and 25,
     # bedding c 5 kPa, conventional) on the quick's blocks, 10 g levels bisected to 1 g (the
     # thesis's 1 g steps); about 35 minutes on 2 cores. Finer blocks change the failure g more
@@ -88,7 +88,7 @@ VARIANTS = {
                  refine_to=1.0, max_steps=40_000,
                  tensile=[1.1e6, 0.8e6, 0.9e6, 1.0e6, 1.2e6, 1.3e6, 1.4e6], frictions=[32.0, 25.0],
                  bedding_cohesion=[5e3], conventional=True, continuum=True,
-                 continuum_h=0.006, workers=2, threads=1, solver={}, judge="budget"),
+                 continuum_h=0.006, workers=2, threads=1, solver={}, judge="response"),
 }
 
 FAILURE_DISPLACEMENT = 0.005     # m in one level: 1.5 % of the slope height
@@ -126,7 +126,7 @@ def _members(v: dict, seed: int) -> list:
 def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
     """Run the case: ``variant`` is "quick", "full" or a settings mapping (``VARIANTS`` keys)."""
     variant, v = pick_variant("adhikary", VARIANTS, variant,
-                              optional={"solver": {}, "judge": "budget"})
+                              optional={"solver": {}, "judge": "response"})
     progress = progress or (lambda message: None)
     result = CaseResult("adhikary", variant, seed, reference=dict(REFERENCE))
     members = _members(v, seed)

@@ -59,11 +59,11 @@ def ramp_members(v: dict, seed: int, **studies) -> list:
     ``<folder>/<label as file name>.vtu``; inside a case run each gets ``checkpoint``, where
     ``ramp_run`` keeps its progress (``store.checkpoint``). ``v["solver"]`` (optional): Model
     options over the scene's for every member, e.g. ``{"edge_elements": True}``; ``v["judge"]``
-    (optional, default "budget"): how each level is judged (``SolveSettings.judge``)."""
+    (optional, default "response"): how each level is judged (``SolveSettings.judge``)."""
     base = dict(edge_length=v["edge_length"], relax_iterations=v["relax_iterations"], seed=seed)
     common = dict(g_levels=v["g_levels"], max_steps=v["max_steps"], threads=v.get("threads", 1),
                   refine_to=v.get("refine_to"), solver=dict(v.get("solver", {})),
-                  judge=v.get("judge", "budget"))
+                  judge=v.get("judge", "response"))
     members = []
     if v["conventional"]:
         members.append(dict(label="conventional", params=dict(base, conventional=True),

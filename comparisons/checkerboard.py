@@ -86,7 +86,7 @@ VARIANTS = {
                   t_levels=(1.5, 1.0, 0.65, 0.35, 0.1, 0.0), support=True, shotcrete=True,
                   weathering=True, conventional=True, continuum=True, continuum_h=20.0,
                   continuum_window=None, workers=2, solver={}, settle=False,
-                  judge="budget"),
+                  judge="response"),
     # full: the whole 4000 m x 3100 m section, 1.3 m flaws near the cut (4,644 blocks),
     # Table 7.4's UCS set; 17-32 minutes a member on two workers. Run 2026-11-26: the cut zone
     # breaks 8,000-13,000 bonds when the weathered strengths are set, before T is lowered, so
@@ -98,7 +98,7 @@ VARIANTS = {
                  # the whole section did not come to gravity equilibrium in continuum_ref
                  # (measured): the continuum runs on the quick window, 5 m near the cut
                  continuum_window=_COMMON["window"], solver={}, settle=False,
-                 judge="budget"),
+                 judge="response"),
 }
 
 

@@ -55,14 +55,14 @@ VARIANTS = {
                   refine_to=10.0, max_steps=19_000, tensile=[4.81e6], conventional=True,
                   continuum=True, continuum_h=0.02, workers=2, threads=1,
                   solver={"step_estimate": "eigen"},
-                  judge="budget"),
+                  judge="response"),
     # full: 5 mm blocks (2.3 across the toe bridges), 20 g levels bisected to 2 g, three
     # tensile strengths (each run 4-8 minutes on one core: docs/comparisons.md, "After the
     # solver fix")
     "full": dict(edge_length=0.005, relax_iterations=50, g_levels=list(range(20, 601, 20)),
                  refine_to=2.0, max_steps=60_000, tensile=[4.81e6, 3.5e6, 2.5e6], conventional=True,
                  continuum=True, continuum_h=0.008, workers=2, threads=1, solver={},
-                 judge="budget"),
+                 judge="response"),
 }
 
 FAILURE_DISPLACEMENT = 0.006     # m in one level: 1.5 % of the slope height
@@ -85,7 +85,7 @@ def run_member(member: dict) -> dict:
 def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
     """Run the case: ``variant`` is "quick", "full" or a settings mapping (``VARIANTS`` keys)."""
     variant, v = pick_variant("longtan", VARIANTS, variant,
-                              optional={"solver": {}, "judge": "budget"})
+                              optional={"solver": {}, "judge": "response"})
     progress = progress or (lambda message: None)
     result = CaseResult("longtan", variant, seed, reference=dict(REFERENCE))
     members = centrifuge.ramp_members(v, seed)

@@ -62,13 +62,13 @@ VARIANTS = {
     # about 20 s on one core, the continuum at h = 15 m 5 s: about 35 s on 2 cores)
     "quick": dict(edge_length=8.0, relax_iterations=5, stage_blocks=MERGED, max_steps=20_000,
                   tensile=[0.1e6, 1.0e6], conventional=True, continuum=True, continuum_h=15.0,
-                  workers=2, solver={}, settle=False,
-                  judge="budget"),
+                  workers=2, solver={"step_estimate": "auto"}, settle=False,
+                  judge="response"),
     # full: the thesis's 1.4 m flaws and the 15 blocks one by one
     "full": dict(edge_length=1.4, relax_iterations=20, stage_blocks=scene.ALL_BLOCKS,
                  max_steps=100_000, tensile=[0.1e6, 1.0e6], conventional=True, continuum=True,
                  continuum_h=5.0, workers=2, solver={}, settle=False,
-                 judge="budget"),
+                 judge="response"),
 }
 MPA = 1e6
 

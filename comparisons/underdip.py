@@ -53,8 +53,8 @@ VARIANTS = {
                   cohesion_values=[300, 150, 75, 0], max_steps=8000,
                   post_failure_steps=10_000, jitters=[0.0], extra_zone_depths=[],
                   conventional=False, continuum=True, continuum_h=6.0, workers=1, threads=1,
-                  solver={}, settle=False,
-                  judge="budget"),
+                  solver={"step_estimate": "auto"}, settle=False,
+                  judge="response"),
     # full: 1.0 m cells (bricks about one bed thick and 1 m long), T in 10 kPa steps then 5,
     # the cohesion in 50-100 kPa steps, both bed patterns, uniform beds in a 35 m zone too
     # (does the zone hold the mechanism?), the conventional model, 20000 steps a level and
@@ -64,7 +64,7 @@ VARIANTS = {
                  post_failure_steps=20_000, jitters=[0.0, 0.8], extra_zone_depths=[35.0],
                  conventional=True, continuum=True, continuum_h=3.0, workers=2, threads=1,
                  solver={}, settle=False,
-                 judge="budget"),
+                 judge="response"),
 }
 
 

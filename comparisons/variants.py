@@ -12,7 +12,7 @@ __all__ = ["pick_variant", "STAGED_OPTIONAL"]
 # the settings the staged field cases took after their custom variants were written: Model
 # options over the scene's (``solver``), early settling of every solve and level (``settle``,
 # ``comparisons.staged.stage_run``) and how they are judged (``judge``, ``SolveSettings``)
-STAGED_OPTIONAL = {"solver": {}, "settle": False, "judge": "budget"}
+STAGED_OPTIONAL = {"solver": {}, "settle": False, "judge": "response"}
 
 
 def pick_variant(case: str, variants: dict, variant, optional=None) -> tuple:

@@ -76,9 +76,11 @@ def test_the_crest_moves_far_more_than_the_toe(quick):
 
 def test_critical_height_rises_with_tensile_strength(quick):
     """Thesis fig 5.10: Hc rises with T. Quick: 6 m layers, table 5.3, T = 0.25 and 1 MPa; the
-    weaker slope must fail during the excavation (else the test says nothing) and the
-    stronger one later or not at all (None: all 12 lifts stood). The weaker one's failure must
-    come with a rupture surface (``find_rupture``), so the trend is about toppling."""
+    weaker slope must stop standing during the excavation (else the test says nothing) and the
+    stronger one later or not at all (None: all 12 lifts stood). Not standing is "failing" or
+    "undecided" (the weaker slope creeps on after its last lift, ``critical_height``). The
+    weaker one's failure must come with a rupture surface (``find_rupture``), so the trend is
+    about toppling."""
     rows = {t: (h, k) for s, t, h, k in quick.methods["dem"]["critical_height"] if s == 6.0}
     (weak, with_rupture), (strong, _) = rows[0.25], rows[1.0]
     assert weak is not None and with_rupture        # a toppling rupture, not a lost block
