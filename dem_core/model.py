@@ -92,6 +92,7 @@ class Model:
         self.search_enabled = True
         self.response_steps = None             # N_r, steps (workflow.response), once measured
         self.in_motion = False                 # the last judged solve did not end at rest
+        self.measured_steps = 0                # steps run by response-time measurements
         self.gravity = np.zeros(2)             # m/s^2 (components.Gravity)
         self.load = np.zeros((blocks.n_blocks, 3))   # N/m, N m/m per block (components.Loads)
         self.servo_groups = []                 # (blocks, params row) (components.Servo)
@@ -430,7 +431,7 @@ class Model:
         the window of a ``judge="response"`` solve; the model is left as it was."""
         self.response_steps = measure_response(self, tuple(watch))
         # the steps run by measurements (each as many as the N_r it found), for cost reports
-        self.measured_steps = getattr(self, "measured_steps", 0) + self.response_steps
+        self.measured_steps += self.response_steps
         return self.response_steps
 
     def search(self):

@@ -50,7 +50,10 @@ RUNNING = ("props", "state", "contacts", "cracks", "materials", "table", "gravit
            "servo_groups", "time", "step", "dt", "critical_dt", "kinetic", "history",
            "points", "search_enabled", "water", "water_faces", "cables", "liners",
            "zone_state", "response_steps", "in_motion", "energy_bank")
-_CLOCK = ("time", "step", "dt", "critical_dt", "search_enabled", "response_steps", "in_motion")
+# saved with the model but not part of a snapshot: ``measured_steps`` counts the cost of every
+# response-time measurement, also those of levels a search later undoes
+_CLOCK = ("time", "step", "dt", "critical_dt", "search_enabled", "response_steps", "in_motion",
+          "measured_steps")
 
 _BS_ARRAYS = ("vertices", "vertex_offsets", "centroid", "area", "region_id", "edge_p0",
               "edge_p1", "edge_block_a", "edge_block_b", "edge_normal", "edge_length",
@@ -165,6 +168,7 @@ def read_model(path, material, water_table) -> dict:
     out = {"blocks": parts["blocks"], "options": options, "contacts": parts["contacts"],
            "response_steps": None,              # not in files before it was measured
            "in_motion": False,                  # nor this, before a mechanism kept N_r
+           "measured_steps": 0,                 # nor the cost of the measurements
            **meta["clock"],
            "materials": {k: material(**v) for k, v in meta["materials"].items()},
            "servo_groups": parts["servo"], "points": parts["points"],
