@@ -1,6 +1,6 @@
 """The quick ``lornex`` variant end to end (8 m flaws, the 15 mining blocks in 5 stages of 3,
-20 000 steps per solve at most; the DEM at T 0.1 and 1.0 MPa, conventional, continuum at h =
-15 m; about 35 s on 2 cores at a load of 4), and the scene's own checks.
+each solve judged over windows of the response time; the DEM at T 0.1 and 1.0 MPa,
+conventional, continuum at h = 15 m; about 65 s on 2 cores), and the scene's own checks.
 
 What is asserted is the thesis's chapter-6 findings that the quick resolution can show
 (Table 6.4's field record and the thesis's text, sections 6.8.1-6.8.4), with bands derived
@@ -96,11 +96,12 @@ def test_errors_against_table_6_4_are_recorded(quick):
             assert quick.errors[name]["reference"] == lornex.TABLE_6_4[k][-1]
 
 
-@pytest.mark.xfail(strict=True, reason="measured (quick, 2026-11-25): the damage model's "
-                   "prisms move 1.5-2.4 m after block 15 against the field's 12.4-16.3 m; the "
-                   "last two stages are still moving at the 20 000-step cap (at 100 000 / 400 000 "
-                   "steps: 3.2-5.1 / 4.5-7.3 m, still moving), and the reconstructed section is "
-                   "not the thesis's")
+@pytest.mark.xfail(strict=True, reason="measured (quick, response judge, 2026-11-30): the "
+                   "damage model's prisms move 3.5-5.7 m after block 15 against the field's "
+                   "12.4-16.3 m; its last two mining solves are failing (a mechanism seen "
+                   "twice; before, on the budget judge, every one ended at its cap with "
+                   "1.5-2.4 m), so the number is where the mechanism was proven, not an "
+                   "equilibrium; and the reconstructed section is not the thesis's")
 def test_final_displacement_within_a_factor_two_of_the_field(quick):
     """The thesis calls its agreement with Table 6.4 good (figs. 6.18-6.22: within about a
     metre); a factor of 2 is a generous band for a reconstructed section."""
@@ -110,10 +111,10 @@ def test_final_displacement_within_a_factor_two_of_the_field(quick):
         assert 0.5 < ratio < 2.0, (k, ratio)
 
 
-@pytest.mark.xfail(strict=True, reason="measured (quick, 2026-11-25): the top prism (SMP 413, "
-                   "2.4 m) moves most and the toe prism (SMP 560, 1.5 m) least: the model's "
-                   "displacement grows up the slope, the field's (and the thesis's fig. 6.20) "
-                   "is largest at the toe")
+@pytest.mark.xfail(strict=True, reason="measured (quick, response judge, 2026-11-30): the "
+                   "top prism (SMP 413, 5.7 m) moves most and the toe prism (SMP 560, 3.5 m) "
+                   "least, as on the budget judge (2.4 / 1.5 m): the model's displacement grows "
+                   "up the slope, the field's (and the thesis's fig. 6.20) is largest at the toe")
 def test_toe_prism_moves_most(quick):
     """Table 6.4 after block 15: SMP 560 (the lowest prism) 16.3 m, the others 12.4-13.3 m."""
     final = {k: v[-1] for k, v in _runs(quick)["T=0.1 MPa"]["cumulative_m"].items()}
