@@ -49,7 +49,8 @@ VARIANTS = {
     # cohesion at T = 0 in halvings, 10000 steps a level and after a failure (about 10 s)
     "quick": dict(edge_length=0.7, values=[25, 20, 15, 10, 0], cohesion_values=[150, 75, 0],
                   max_steps=10_000, post_failure_steps=10_000, conventional=False,
-                  continuum=True, continuum_h=3.0, workers=1, threads=1, solver={"step_estimate": "auto"}, settle=False,
+                  continuum=True, continuum_h=3.0, workers=1, threads=1,
+                  solver={"step_estimate": "auto"}, settle=False,
                   judge="response"),
     # full: 0.5 m cells (seven across), T in 5 kPa steps, the cohesion in 25-50 kPa steps, the
     # conventional model, 20000 steps a level and after a failure

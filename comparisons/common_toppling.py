@@ -29,7 +29,8 @@ which the slope is no longer shown to stand (the run's ``hc_verdict`` says which
 T = 0.25 MPa quick slope creeps on at 4-7 mm per N_r after its last lift with the ratio steady
 at 1e-4, "undecided" at 20 windows and "failing" at 40). With ``judge="budget"``: the ratio
 is not reached within ``max_steps`` and the largest block displacement is still growing at
-the step limit (``monitor.verdict``; "moving but slowing" counts as standing). The strength schedule also fails a level as soon as a block has moved more than
+the step limit (``monitor.verdict``; "moving but slowing" counts as standing). The strength
+schedule also fails a level as soon as a block has moved more than
 ``FAILURE_DISPLACEMENT`` in it; the lift-by-lift solves do not, because one block lost from
 the surface after a lift is not the slope failing (measured: the full 1.5 m model, T = 1 MPa,
 "failed" that way at 30 m with no rupture surface). The rupture surface of a failed state is

@@ -56,7 +56,8 @@ VARIANTS = {
                               limestone_cross=1.2, limestone_depth=3.0, relax_iterations=10),
                   ratios=[0.5, 3.0], values=_QUICK_VALUES, refine_to=None, max_steps=20_000,
                   conventional_ratio=3.0, continuum=True, continuum_h=6.0,
-                  continuum_ratios=[1.0], workers=2, threads=1, solver={"step_estimate": "auto"}, settle=False,
+                  continuum_ratios=[1.0], workers=2, threads=1,
+                  solver={"step_estimate": "auto"}, settle=False,
                   judge="response"),
     # full: the thesis's resolution (module docstring of the scene: 0.2 m flaws in five beds
     # from 5 m below to 60 m above the toe level, limestone 0.7 x 0.4 m over 10 m; about 7000
