@@ -27,10 +27,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from scenes import machine, write_json  # noqa: E402
+from dem_core.workflow.stages import STOPS  # noqa: E402
 
 CASES = ["adhikary", "longtan", "underdip", "coal_buckling", "highwood", "lornex",
          "checkerboard", "common_toppling"]
-NOT_STANDING = ("failed", "failing", "undecided", "unstable")
 
 
 def answer(run: dict) -> dict:
@@ -41,7 +41,7 @@ def answer(run: dict) -> dict:
                 "last_stable": run.get("last_stable_g")}
     search = run.get("search") or {}
     return {"failed_stages": [i for i, s in enumerate(run["stages"])
-                              if s["verdict"] in NOT_STANDING],
+                              if s["verdict"] in STOPS],
             "failure": search.get("failure"), "last_stable": search.get("last_stable")}
 
 

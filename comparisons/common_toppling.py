@@ -52,8 +52,7 @@ from comparisons.scenes import common_toppling as scene
 from comparisons.staged import stage_run
 from comparisons.sweep import run_sweep
 from comparisons.variants import STAGED_OPTIONAL, pick_variant
-from dem_core.output.monitor import FAILED
-from dem_core.workflow.stages import ChangeMaterial, Excavate, Gravity, Solve
+from dem_core.workflow.stages import STOPS, ChangeMaterial, Excavate, Gravity, Solve
 from dem_core.workflow.strength import StrengthSchedule
 
 DESCRIPTION = ("Common (block-flexural) toppling after Nichol et al. 2002 (thesis 5.2.2): "
@@ -133,12 +132,12 @@ def height_stages(p: scene.ToppleParams, v: dict) -> list:
 
 def critical_height(run: dict) -> tuple:
     """(Hc m, verdict): the slope height after the first lift whose solve did not stand
-    ("failed", "failing" or "undecided"), and that verdict; (None, None) if every lift
+    (``stages.STOPS``: "failed", "failing", "undecided" or "unstable"), and that verdict; (None, None) if every lift
     stood."""
     lifts = 0
     for s in run["stages"]:
         lifts += s["kind"] == "excavate"
-        if s["kind"] == "solve" and s["verdict"] in (*FAILED, "undecided"):
+        if s["kind"] == "solve" and s["verdict"] in STOPS:
             return (scene.height_after(lifts) if lifts else 0.0), s["verdict"]
     return None, None
 

@@ -24,6 +24,7 @@ import textwrap
 import numpy as np
 
 from comparisons.staged import INTACT
+from dem_core.workflow.stages import STOPS
 
 __all__ = ["stage_figure", "state_figure", "search_figure", "history_figure", "search_record",
            "search_state", "crack_counts_text", "draw_water_table", "VERDICT_STYLE",
@@ -184,7 +185,7 @@ def _by_verdict(ax, levels, values, verdicts, colour=None, legend=True):
     for v in dict.fromkeys(verdicts):
         marker, face, words = VERDICT_STYLE.get(v, ("s", "0.5", v))
         k = [i for i, w in enumerate(verdicts) if w == v]
-        stood = v not in ("failed", "failing", "undecided", "unstable")
+        stood = v not in STOPS
         ax.plot(np.asarray(levels)[k], np.asarray(values, float)[k], marker, ls="",
                 mfc=colour if colour is not None and stood else face, mec="k", ms=8, zorder=3,
                 gid=f"verdict:{v}", label=words if legend else None)
@@ -284,7 +285,7 @@ def _points_panel(ax, lr, levels, order):
         _by_verdict(ax, levels, u, list(lr.verdict), colour=c, legend=False)
     for v in dict.fromkeys(lr.verdict):             # the markers' shapes, once
         marker, face, words = VERDICT_STYLE.get(v, ("s", "0.5", v))
-        stood = v not in ("failed", "failing", "undecided", "unstable")
+        stood = v not in STOPS
         ax.plot([], [], marker, ls="", mfc="0.85" if stood else face, mec="k", label=words)
     if log:
         ax.set_yscale("log")
