@@ -10,14 +10,21 @@ thesis's damage model (70 g; 134 g).
 
     python benchmarks/centrifuge_resolution.py [--case adhikary] [--edges 0.008 0.006 0.004]
                                                [--seeds 1] [--tensile 1.1] [--workers 2]
-                                               [--edge-elements]
+                                               [--edge-elements | --end-springs]
+                                               [--judge response]
+                                               [--solver '{"step_estimate": "eigen"}']
 
 Every edge is run with every tessellation seed of ``--seeds`` (the scatter of one block size)
 and every flaw tensile strength of ``--tensile`` (MPa; whether a T trend outlasts that scatter).
 ``--edge-elements`` runs the blocks' shared edges as linear elements (``Model(edge_elements=True)``:
-the bending strength of a bonded edge no longer depends on the block size, issue 24 item 1);
+the bending strength of a bonded edge no longer depends on the block size, issue 24 item 1),
+``--end-springs`` as the two point contacts of UDEC (without either, the scene's: adhikary edge
+elements on the eigen step since 2026-11-30, longtan end springs);
 ``--deformable H`` makes every block deformable with zones of H m (UDEC-DM's blocks, issue 24
-item 2; the contacts then act on the zones' boundary segments).
+item 2; the contacts then act on the zones' boundary segments). ``--judge`` is the levels'
+verdict (default the full variant's, "response"; "budget": the stands-at-the-budget verdict of
+the runs before 2026-11-30) and ``--solver`` further ``Model`` options as JSON (e.g. the eigen
+step).
 
 Writes results/benchmarks/centrifuge_resolution.json and .png (``--name`` renames them;
 ``--reference``: benchmarks/results/); ``--summary NAME ...`` draws the rows of earlier result
@@ -58,10 +65,13 @@ CASES = {
 
 
 def member(edge: float, seed: int = 1, tensile_mpa: float | None = None,
-           edge_elements: bool = False, case: str = "adhikary", zone: float = 0.0,
-           fracture_energy: float = 0.0, softening_regions: str = "*") -> dict:
+           edge_elements: bool | None = None, case: str = "adhikary", zone: float = 0.0,
+           fracture_energy: float = 0.0, softening_regions: str = "*", judge=None,
+           solver=None) -> dict:
     """The sweep member of one block size (the case's base run at another edge, seed or T;
-    ``fracture_energy`` G_I of softening flaws, J/m^2, with G_II = ``MODE_II_RATIO`` G_I)."""
+    ``fracture_energy`` G_I of softening flaws, J/m^2, with G_II = ``MODE_II_RATIO`` G_I;
+    ``edge_elements`` None: the scene's contact model; ``judge`` the levels' verdict, default
+    the full variant's; ``solver`` further Model options)."""
     spec = CASES[case]
     full = spec["module"].VARIANTS["full"]
     t = spec["tensile"] if tensile_mpa is None else tensile_mpa
@@ -72,13 +82,25 @@ def member(edge: float, seed: int = 1, tensile_mpa: float | None = None,
     if fracture_energy and softening_regions != "*":      # (longtan: "zone*")
         soft["flaw_softening_regions"] = softening_regions
     return dict(label=f"{case} edge {edge} seed {seed} T {t} G {fracture_energy}", case=case,
-                solver=dict(edge_elements=edge_elements,
-                            **({"deformable": {"*": zone}} if zone > 0 else {})),
+                solver=dict(**({} if edge_elements is None else
+                               {"edge_elements": edge_elements}),
+                            # (deformable blocks take neither edge elements nor the eigen step)
+                            **({"deformable": {"*": zone}, "edge_elements": False,
+                                "step_estimate": "bound"} if zone > 0 else {}),
+                            **(solver or {})),
+                judge=judge or full.get("judge", "budget"),
                 params=dict(edge_length=edge, seed=seed, flaw_tensile_strength=t * 1e6,
                             relax_iterations=full["relax_iterations"], **soft),
                 g_levels=full["g_levels"],
                 max_steps=steps.get(edge, steps[min(steps)]),   # (else the finest's)
                 refine_to=full["refine_to"])
+
+
+def _scene_edge_elements(case: str) -> bool:
+    """Whether the case's scene runs its shared edges as linear elements by default."""
+    scenes = CASES[case]["module"].scene
+    params = scenes.AdhikaryParams() if case == "adhikary" else scenes.LongtanParams()
+    return bool(scenes.scene(params).solver.get("edge_elements"))
 
 
 def run_member(m: dict) -> dict:
@@ -90,11 +112,11 @@ def row(m: dict, r: dict) -> dict:
     return {"case": m["case"], "edge_m": m["params"]["edge_length"],
             "seed": m["params"]["seed"],
             "flaw_tensile_mpa": m["params"]["flaw_tensile_strength"] / 1e6,
-            "edge_elements": m["solver"]["edge_elements"],
+            "edge_elements": m["solver"].get("edge_elements", _scene_edge_elements(m["case"])),
             "fracture_energy_I": m["params"].get("flaw_fracture_energy_I", 0.0),
             "softening_regions": m["params"].get("flaw_softening_regions", "*"),
             "zone_m": m["solver"].get("deformable", {}).get("*", 0.0),
-            "blocks": r["blocks"],
+            "judge": m["judge"], "solver": m["solver"], "blocks": r["blocks"],
             "contacts": r["contacts"], "g_step": m["g_levels"][1] - m["g_levels"][0],
             "g_resolution": m["refine_to"], "max_steps_per_level": m["max_steps"],
             "failure_g": r["failure_g"], "last_stable_g": r["last_stable_g"],
@@ -118,8 +140,11 @@ def main(argv=None):
     ap.add_argument("--tensile", type=float, nargs="+", default=[None],
                     help="flaw T (MPa; default the case's base: adhikary 1.1, longtan 4.81)")
     ap.add_argument("--workers", type=int, default=2)
-    ap.add_argument("--edge-elements", action="store_true",
-                    help="shared edges as linear elements (Model(edge_elements=True))")
+    contacts = ap.add_mutually_exclusive_group()
+    contacts.add_argument("--edge-elements", action="store_const", const=True, default=None,
+                          help="shared edges as linear elements (Model(edge_elements=True))")
+    contacts.add_argument("--end-springs", dest="edge_elements", action="store_const",
+                          const=False, help="shared edges as two point contacts (UDEC's)")
     ap.add_argument("--deformable", type=float, default=0.0, metavar="H",
                     help="every block deformable, zones of H m (Model(deformable={'*': H}))")
     ap.add_argument("--fracture-energy", type=float, nargs="+", default=[0.0], metavar="G_I",
@@ -127,6 +152,10 @@ def main(argv=None):
     ap.add_argument("--softening-regions", default="*", metavar="PATTERN",
                     help="longtan: the regions whose flaws soften (\"zone*\": the Voronoi "
                          "zone; the others' flaws stay brittle)")
+    ap.add_argument("--judge", choices=("response", "budget"), default=None,
+                    help="the levels' verdict (default the full variant's)")
+    ap.add_argument("--solver", type=json.loads, default=None, metavar="JSON",
+                    help='further Model options, e.g. \'{"step_estimate": "eigen"}\'')
     ap.add_argument("--name", default="centrifuge_resolution",
                     help="file name of the results (without .json / .png)")
     ap.add_argument("--summary", nargs="+", metavar="NAME",
@@ -142,7 +171,7 @@ def main(argv=None):
         summary_figure(rows, out / f"{a.name}.png")
         return
     members = [member(edge, seed, t, a.edge_elements, a.case, a.deformable, g,
-                      a.softening_regions)
+                      a.softening_regions, a.judge, a.solver)
                for edge in a.edges for seed in a.seeds for t in a.tensile
                for g in a.fracture_energy]
     rows = [row(m, r) for m, r in zip(members, run_sweep(run_member, members, a.workers))]

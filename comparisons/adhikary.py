@@ -54,36 +54,28 @@ REFERENCE = {
 # (dem_core.step.threads.parallel). At these sizes two processes of one thread each beat one process of two
 # threads (the per-step thread start-up is not paid back); the results are the same.
 # refine_to: after the first failed level, bisect back to this many g (gravity_ramp).
-# solver: Model options over the scene's for every run, e.g. {"edge_elements": True} (the shared
-# edges as linear elements: the failure g then converges with block size, about 39 g,
-# docs/verification.md; the stored numbers are without it).
-# Each level runs at most max_steps with kinetic damping (comparisons/centrifuge.py): a stable
-# level settles within ~20,000 steps at 8 mm (~30,000 at 6 mm), a failing one runs away.
+# solver: Model options over the scene's for every run. The scene's contact model is edge
+# elements on the eigen step (comparisons/scenes/adhikary.py: the failure g converges with block
+# size, 39-40 g at 6 / 4 / 3 mm); {"edge_elements": False, "step_estimate": "bound"} is the
+# end-spring pair of the stored numbers before 2026-11-30 (80 g quick; docs/comparisons.md).
+# judge: each level's verdict. "response": at rest or a mechanism over windows of the slope's
+# measured response time, with no step budget in the answer (max_steps is then unused);
+# "budget": the budget judge of the numbers before 2026-11-30.
 VARIANTS = {
-    # quick: 6 mm blocks (1.7 across a 10 mm bed: failure g within 6 % of the experiment at
-    # T = 1.1 MPa; 8 mm blocks give +42 %, benchmarks/centrifuge_resolution.py), every study at
-    # one value, a plain ramp in 20 g levels from 40 to 120 g (no bisection: the failure g is
-    # the first failed level of a 20 g ramp; 120 g is 1.5 times the base run's failure g, room
-    # for the conventional run to stand above it) and at most 13,000 steps a level: no level
-    # reaches the 1e-5 force ratio, but in the 40,000-step quick every stable level had moved
-    # 98 % within 8,700-13,400 steps and less than CREEP after, so a level that stands at
-    # 40,000 steps stands at 13,000; a level that breaks only after 13,000 steps counts as
-    # stable (docs/comparisons.md). Since 2026-11-27 on the step from the largest eigenvalue
-    # (``step_estimate="eigen"``), 1.65 times the bounded one on these blocks, so 8,000 steps a
-    # level are the 13,000 bounded steps' simulated time; the same failure g for every run in
-    # about 1 minute on 2 cores instead of 2 (docs/comparisons.md). tests/test_adhikary_quick.py
-    # runs it and asserts the trends.
+    # quick: 6 mm blocks (within 3 % of the 3 mm answer with edge elements), every study at
+    # one value, 20 g levels from 20 to 120 g (120 g: three times the base run's failure g,
+    # room for the conventional run to stand above it), the failed level bisected and the ramp
+    # closed in 5 g steps (the T trend, 34 / 39 / 51 g at 0.8 / 1.1 / 1.4 MPa, is 5-11 g a
+    # step). About 1 minute a run, two side by side. tests/test_adhikary_quick.py runs it and
+    # asserts the trends.
     # T order: the longer ramps first, so that the two processes finish together.
-    "quick": dict(edge_length=0.006, relax_iterations=10, g_levels=list(range(40, 121, 20)),
-                  refine_to=None, max_steps=8_000, tensile=[1.1e6, 1.4e6, 0.8e6],
+    "quick": dict(edge_length=0.006, relax_iterations=10, g_levels=list(range(20, 121, 20)),
+                  refine_to=5.0, max_steps=8_000, tensile=[1.1e6, 1.4e6, 0.8e6],
                   frictions=[25.0], bedding_cohesion=[5e3], conventional=True, continuum=True,
-                  continuum_h=0.012, workers=2, threads=1, solver={"step_estimate": "eigen"},
-                  judge="response"),
+                  continuum_h=0.012, workers=2, threads=1, solver={}, judge="response"),
     # full: every run of the thesis (T = 0.8..1.4 MPa in 0.1 steps, flaw friction 32 and 25,
     # bedding c 5 kPa, conventional) on the quick's blocks, 10 g levels bisected to 1 g (the
-    # thesis's 1 g steps); about 35 minutes on 2 cores. Finer blocks change the failure g more
-    # than any study does (not converged: benchmarks/centrifuge_resolution.py), so they are a
-    # separate study, not this variant.
+    # thesis's 1 g steps). Block size: benchmarks/centrifuge_resolution.py.
     "full": dict(edge_length=0.006, relax_iterations=10, g_levels=list(range(10, 301, 10)),
                  refine_to=1.0, max_steps=40_000,
                  tensile=[1.1e6, 0.8e6, 0.9e6, 1.0e6, 1.2e6, 1.3e6, 1.4e6], frictions=[32.0, 25.0],

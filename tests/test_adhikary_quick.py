@@ -10,9 +10,10 @@
 - the damage model's rupture runs from the toe into the slope;
 
 and that its failure g-levels are the stored regression numbers (tests/case_reference.json).
-Quick = 6 mm blocks, a ramp in 20 g levels from 40 to 120 g, at most 8,000 steps a level of the
-step from the largest eigenvalue, one process per run (two side by side; about 1 minute on 2
-cores).
+Quick = 6 mm blocks with edge elements on the step from the largest eigenvalue (the scene's
+contact model, whose failure g converges with block size), a ramp in 20 g levels from 20 to
+120 g, the failed level bisected and the ramp closed in 5 g steps, each level judged at rest or
+failing by the response judge, one process per run (two side by side).
 """
 import pytest
 from case_reference_check import assert_failure_g_matches
@@ -35,7 +36,7 @@ def test_base_run_first_and_every_run_fails_in_range(quick):
     levels = adhikary.VARIANTS["quick"]["g_levels"]
     # every run stands at the first level and fails within the ramp
     assert all(g is not None and levels[0] < g <= levels[-1] for _, g in pairs)
-    assert quick.methods["dem"]["g_resolution"] == 20.0
+    assert quick.methods["dem"]["g_resolution"] == adhikary.VARIANTS["quick"]["refine_to"]
 
 
 def test_failure_g_rises_with_tensile_strength(quick):

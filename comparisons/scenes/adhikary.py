@@ -148,8 +148,16 @@ def materials(p: AdhikaryParams) -> dict:
 def scene(p: AdhikaryParams, stages=()) -> Scene:
     """The scene as data (``dem_core.workflow.scene``): geometry, materials, the centrifuge boundaries,
     points A and B, the quasi-static g-ramp solver (kinetic damping, mass scaling) and
-    ``stages`` (e.g. one ``stages.RaiseGravity``)."""
-    solver = {"mass_scaling": True, "damping": 0.0, "kinetic_damping": 100}
+    ``stages`` (e.g. one ``stages.RaiseGravity``).
+
+    The contact model is the one whose failure g converges with block size: every shared edge
+    a linear element (``edge_elements``: a bonded edge's bending stiffness and strength do not
+    depend on the block size; 39.4 / 40.4 / 38.1 g at 6 / 4 / 3 mm, docs/cases/adhikary.md)
+    on the step from the largest eigenvalue (``step_estimate="eigen"``). The end-spring pair
+    UDEC uses, 3.8 times too strong in bending at 6 mm (benchmarks/column_bending.py), is
+    ``{"edge_elements": False, "step_estimate": "bound"}`` over this solver."""
+    solver = {"mass_scaling": True, "damping": 0.0, "kinetic_damping": 100,
+              "edge_elements": True, "step_estimate": "eigen"}
     if p.conventional:
         solver["unbreakable"] = "flaw:*"
     return Scene(geometry(p), materials(p), density=DENSITY, block_E=p.block_E,
@@ -161,16 +169,19 @@ def scene(p: AdhikaryParams, stages=()) -> Scene:
 def base_run() -> Scene:
     """The thesis's base run as a scene (the file ``adhikary.json`` next to this module): the
     default parameters (6 mm random cells, T = 1.1 MPa) raised from 10 g in 10 g levels, each
-    failure bracket bisected to 1 g (the full variant's ramp, ``comparisons.adhikary``)."""
+    failure bracket bisected to 1 g (the full variant's ramp, ``comparisons.adhikary``), each
+    level judged by the response judge (``SolveSettings.judge``: at rest or a mechanism over
+    windows of the slope's response time, no step budget)."""
     ramp = RaiseGravity(tuple(float(g) for g in range(10, 301, 10)), ratio=1e-5,
-                        max_steps=40_000, failure_displacement=0.005, creep=2e-4,
-                        watch=("A", "B"), refine_to=1.0)
+                        failure_displacement=0.005, creep=2e-4,
+                        watch=("A", "B"), refine_to=1.0, judge="response")
     sc = scene(AdhikaryParams(edge_length=0.006, relax_iterations=10), stages=[ramp])
     sc.description = ("Adhikary & Dyskin (2006) centrifuge model IGM-01, the thesis's base run "
                       "(4.2): 0.33 m slope at 61 deg, 10 mm beds dipping 81 deg into it, 6 mm "
                       "Voronoi flaws T 1.1 MPa; fixed base, rollers on the sides; A crest, B "
-                      "mid-face; g raised in 10 g levels, failures bisected to 1 g. Geometry "
-                      "assumptions: comparisons/scenes/adhikary.py.")
+                      "mid-face; g raised in 10 g levels, failures bisected to 1 g, each level "
+                      "judged at rest or failing (response judge); shared edges as linear "
+                      "elements. Geometry assumptions: comparisons/scenes/adhikary.py.")
     return sc
 
 
