@@ -263,3 +263,35 @@ def test_joint_slip_that_settles_over_many_response_times_is_not_a_mechanism():
         out.append(model.solve(judge="response", windows=WINDOWS * x))
     assert [r.verdict for r in out] == ["equilibrium"] * 2, [r.reason for r in out]
     assert out[0].steps == out[1].steps > 3 * out[0].response_steps
+
+
+def _still_and_sliding():
+    """Block A on a flat fixed slab, block B on a fixed 45-degree face with friction 30
+    degrees: A stands, B slides away at a = g (sin 45 - cos 45 tan 30) for good, keeping the
+    unbalanced ratio up."""
+    d, n = np.array([1.0, 1.0]) / math.sqrt(2), np.array([-1.0, 1.0]) / math.sqrt(2)
+    p = np.array([12.0, 0.0]) + 8.0 * d
+    bs = from_polygons([[(0, 0), (10, 0), (10, 1), (0, 1)], [(12, 0), (22, 0), (22, 10)],
+                        [(2, 1), (3, 1), (3, 2), (2, 2)], [p, p + d, p + d + n, p + n]],
+                       edge_material="joint:base",
+                       groups={"base": [0, 1], "A": [2], "B": [3]})
+    m = Model(bs, {"joint:*": Material(kn=1e9, ks=1e9, friction=30.0)}, density=2000,
+              damping=0.8)
+    m.fix("base")
+    m.set_gravity(1.0)
+    m.add_history_point("A", (2.5, 1.5))
+    return m
+
+
+@pytest.mark.parametrize("factor", [1, 2])
+def test_a_watched_point_standing_still_is_at_rest_while_an_unwatched_block_slides(factor):
+    """The ratio never falls (block B accelerates down its face), so neither rest by the ratio
+    nor by a decaying movement can be granted; the watched point on A moves by round-off
+    only: two windows at most ``STILL`` of creep are at rest (``response.STILL``), at the
+    same window whatever the cap. Judging every block instead, B's slide is a mechanism."""
+    m = _still_and_sliding()
+    res = m.solve(judge="response", watch=("A",), windows=factor * WINDOWS)
+    assert res.verdict == "equilibrium" and res.reason.startswith("standing still")
+    assert res.steps == 2 * res.response_steps           # at the end of window 2
+    m = _still_and_sliding()
+    assert m.solve(judge="response", windows=factor * WINDOWS).verdict == "failing"
