@@ -16,10 +16,25 @@ def test_every_example_is_run_here():
 
 @pytest.mark.parametrize("name", NAMES)
 def test_example(name, monkeypatch):
+    monkeypatch.chdir(EXAMPLES.parent)             # the project root, as the README runs them
     monkeypatch.syspath_prepend(str(EXAMPLES))
     module = importlib.import_module(name)
     assert module.main(quick=True) > 0          # each main asserts its own number
     sys.modules.pop(name, None)
+
+
+def test_the_readme_lines_are_the_centrifuge_example_as_written():
+    """The README's "A slope in a few lines" block, line for line, is what
+    examples/centrifuge_slope.py runs (and ``test_example`` runs it): the README's own lines
+    are tested as written."""
+    readme = (EXAMPLES.parent / "README.md").read_text()
+    block = readme.split("## A slope in a few lines", 1)[1].split("```python\n", 1)[1]
+    lines = [ln for ln in block.split("```", 1)[0].splitlines() if ln.strip()]
+    example = [ln.strip() for ln in (EXAMPLES / "centrifuge_slope.py").read_text().splitlines()
+               if ln.strip()]
+    start = example.index(lines[0].strip())
+    assert example[start:start + len(lines)] == [ln.strip() for ln in lines]
+    assert len(lines) >= 5
 
 
 def test_the_field_slope_scene_file_is_the_examples_scene(monkeypatch):

@@ -69,8 +69,8 @@ checks:
   over two windows in a row, whatever the ratio does: standing still (the unbalanced force is
   then in what is not judged: on the Adhikary slope at 6 mm with edge elements, T = 1.4 MPa
   at 40 g, A and B moved 4e-8 m per N_r over two windows, 2e-4 of creep, while the ratio
-  stayed at 4e-5 for as long as the solve ran; the block past its yielding bolt, at 3 % of
-  its creep, is not still);
+  stayed at 4e-5, where no other rule could end the level before its cap; the block past its
+  yielding bolt, at 3 % of its creep, is not still);
 - "failing": the judged displacement since the solve began passes ``failure_displacement``;
   or a mechanism, seen twice: from the third window on, Dawson's test over two windows,
   ``v > creep`` and ``v_j >= 0.8 v_j-1`` (the velocity does not decay) while
