@@ -318,12 +318,13 @@ def conventional(scene: Scene, zone_size: float, plastic: bool = False) -> Scene
     Mohr-Coulomb with its flaws' strength (the material "flaw:<region>": cohesion, friction,
     tensile strength; no dilation), the intact rock the damage model's flaws stand for;
     else elastic. The solver options deformable blocks do not take yet (``rounding``,
-    ``edge_elements``) are dropped."""
+    ``edge_elements``, the eigen ``step_estimate``) are dropped."""
     if scene.block_E is None:
         raise ValueError(f"conventional: scene {scene.name!r} has rigid blocks (block_E None); "
                          "its conventional model needs their modulus")
     _positive("conventional zone size (m)", zone_size)
-    solver = {k: v for k, v in scene.solver.items() if k not in ("rounding", "edge_elements")}
+    solver = {k: v for k, v in scene.solver.items()
+              if k not in ("rounding", "edge_elements", "step_estimate")}
     solver["deformable"] = {"*": float(zone_size)}
     if plastic:
         solver["zone_strength"] = {}
