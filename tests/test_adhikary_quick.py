@@ -91,3 +91,13 @@ def test_failure_g_matches_the_regression_reference(quick):
     measured["bedding c 5 kPa"] = quick.methods["dem"]["bedding_cohesion_study"][0][1]
     measured["conventional"] = quick.methods["conventional"]["failure_g"]
     assert_failure_g_matches(measured, "adhikary_quick")
+
+
+def test_the_report_says_what_the_contact_model_makes_of_the_failure_g(quick):
+    """The quick runs the scene's edge elements; its notes say the failure g is the converged
+    model's and how far that is from the experiment, and how to get the end springs."""
+    note = next(n for n in quick.notes if n.startswith("Contact model:"))
+    assert "edge elements" in note and "converges with block size" in note
+    assert "edge_elements" in note and "false" in note
+    assert adhikary.contact_model_note({"edge_elements": False}).startswith(
+        "Contact model: the end-spring pair")
