@@ -56,8 +56,8 @@ REFERENCE = {
 # refine_to: after the first failed level, bisect back to this many g (gravity_ramp).
 # solver: Model options over the scene's for every run. The scene's contact model is edge
 # elements on the eigen step (comparisons/scenes/adhikary.py: the failure g converges with block
-# size, 39-40 g at 6 / 4 / 3 mm); {"edge_elements": False, "step_estimate": "bound"} is the
-# end-spring pair of the stored numbers before 2026-11-30 (80 g quick; docs/comparisons.md).
+# size, 38-40 g at 6 / 4 / 3 mm); {"edge_elements": False} is the end-spring pair of the
+# stored numbers before 2026-11-30 (with the old quick's levels, docs/comparisons.md: 80 g).
 # judge: each level's verdict. "response": at rest or a mechanism over windows of the slope's
 # measured response time, with no step budget in the answer (max_steps is then unused);
 # "budget": the budget judge of the numbers before 2026-11-30.
@@ -65,9 +65,9 @@ VARIANTS = {
     # quick: 6 mm blocks (within 3 % of the 3 mm answer with edge elements), every study at
     # one value, 20 g levels from 20 to 120 g (120 g: three times the base run's failure g,
     # room for the conventional run to stand above it), the failed level bisected and the ramp
-    # closed in 5 g steps (the T trend, 34 / 39 / 51 g at 0.8 / 1.1 / 1.4 MPa, is 5-11 g a
-    # step). About 1 minute a run, two side by side. tests/test_adhikary_quick.py runs it and
-    # asserts the trends.
+    # closed in 5 g steps (the T trend, 34 / 39 / 51 g at 0.8 / 1.1 / 1.4 MPa on the budget
+    # judge, is 5-11 g a step). 1-2 minutes a run, two side by side.
+    # tests/test_adhikary_quick.py runs it and asserts the trends.
     # T order: the longer ramps first, so that the two processes finish together.
     "quick": dict(edge_length=0.006, relax_iterations=10, g_levels=list(range(20, 121, 20)),
                   refine_to=5.0, max_steps=8_000, tensile=[1.1e6, 1.4e6, 0.8e6],
@@ -184,9 +184,9 @@ def contact_model_note(solver: dict) -> str:
                 "failure g converges with block size: 39.4 / 40.4 / 38.1 g at 6 / 4 / 3 mm "
                 "(T = 1.1 MPa; docs/cases/adhikary.md). The converged damage model fails at "
                 "about half the experiment's 80-85 g and about 0.55 of the thesis's UDEC-DM "
-                "70 g; the end-spring pair UDEC uses (solver {\"edge_elements\": false, "
-                "\"step_estimate\": \"bound\"}) gave 80 g at 6 mm, its excess bending strength "
-                "at that block size (54 g at 4 mm), not a converged answer.")
+                "70 g; the end-spring pair UDEC uses (solver {\"edge_elements\": false}) gave "
+                "80 g at 6 mm, its excess bending strength at that block size (54 g at 4 mm), "
+                "not a converged answer.")
     return ("Contact model: the end-spring pair (two point contacts per shared edge, as UDEC): "
             "its bending strength falls with block size (85 / 76 / 54 g at 8 / 6 / 4 mm), so the "
             "failure g is one of this block size, not a converged answer (docs/cases/adhikary.md).")
