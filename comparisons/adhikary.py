@@ -179,7 +179,7 @@ def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
 def contact_model_note(solver: dict) -> str:
     """What the failure g means with the run's contact model (the scene's, edge elements on
     the eigen step, unless ``solver`` names another)."""
-    if solver.get("edge_elements", scene.scene(scene.AdhikaryParams()).solver["edge_elements"]):
+    if solver.get("edge_elements", scene.SOLVER["edge_elements"]):
         return ("Contact model: every shared edge a linear element (edge elements), whose "
                 "failure g converges with block size: 39.4 / 40.4 / 38.1 g at 6 / 4 / 3 mm "
                 "(T = 1.1 MPa; docs/cases/adhikary.md). The converged damage model fails at "

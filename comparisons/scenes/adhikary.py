@@ -145,6 +145,11 @@ def materials(p: AdhikaryParams) -> dict:
     return {"flaw:rock": flaw, "joint:bedding": bedding}
 
 
+# the scene's solver (``scene``): quasi-static g-ramps, edge elements on the eigen step
+SOLVER = {"mass_scaling": True, "damping": 0.0, "kinetic_damping": 100,
+          "edge_elements": True, "step_estimate": "eigen"}
+
+
 def scene(p: AdhikaryParams, stages=()) -> Scene:
     """The scene as data (``dem_core.workflow.scene``): geometry, materials, the centrifuge boundaries,
     points A and B, the quasi-static g-ramp solver (kinetic damping, mass scaling) and
@@ -156,8 +161,7 @@ def scene(p: AdhikaryParams, stages=()) -> Scene:
     on the step from the largest eigenvalue (``step_estimate="eigen"``). The end-spring pair
     UDEC uses, 3.8 times too strong in bending at 6 mm (benchmarks/column_bending.py), is
     ``{"edge_elements": False, "step_estimate": "bound"}`` over this solver."""
-    solver = {"mass_scaling": True, "damping": 0.0, "kinetic_damping": 100,
-              "edge_elements": True, "step_estimate": "eigen"}
+    solver = dict(SOLVER)
     if p.conventional:
         solver["unbreakable"] = "flaw:*"
     return Scene(geometry(p), materials(p), density=DENSITY, block_E=p.block_E,
