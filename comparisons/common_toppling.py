@@ -27,7 +27,8 @@ surface". With the variants' judge, "response" (``workflow.response``), a solve 
 nor a mechanism within its cap of windows): both end the excavation, and Hc is the height at
 which the slope is no longer shown to stand (the run's ``hc_verdict`` says which; the 6 m
 T = 0.25 MPa quick slope creeps on at 4-7 mm per N_r after its last lift with the ratio steady
-at 1e-4, "undecided" at 20 windows and "failing" at 40). With ``judge="budget"``: the ratio
+at 1e-4: a slow mechanism, "failing" at 271,500 steps since 2026-12-01, "undecided" at the
+20-window cap before). With ``judge="budget"``: the ratio
 is not reached within ``max_steps`` and the largest block displacement is still growing at
 the step limit (``monitor.verdict``; "moving but slowing" counts as standing). The strength
 schedule also fails a level as soon as a block has moved more than

@@ -85,6 +85,7 @@ def members(v: dict, seed: int) -> list:
                                                           conventional=True)))
     for m in out:
         m["solver"], m["settle"], m["judge"] = dict(v["solver"]), v["settle"], v["judge"]
+        m["point_history"] = True
     return out
 
 
@@ -109,9 +110,47 @@ def run_member(member: dict) -> dict:
         "cumulative": {k: [float(np.hypot(run["stages"][i]["points"][k][0] - base[k][0],
                                           run["stages"][i]["points"][k][1] - base[k][1]))
                            for i in after] for k in PRISMS}}
+    run["mining"]["motion"] = _stage_motion(run.pop("point_history"), run["stages"], after,
+                                            base)
     run["premining_cracks"] = int(sum(run["stages"][first]["cracks"].values()))
     run["mode"] = movement_mode(run["picture"], p)
     return run
+
+
+def _stage_motion(hist: dict, stages: list, after: list, base: dict) -> list:
+    """Per mining solve: its start and end model time (s) and, at each recorded time within
+    it, the mean over the prisms of their mining-induced displacement (m)."""
+    t = np.asarray(hist["time"])
+    mean = np.mean([np.hypot(np.asarray(hist[f"{k}.ux"]) - base[k][0],
+                             np.asarray(hist[f"{k}.uy"]) - base[k][1]) for k in PRISMS], axis=0)
+    out = []
+    for i in after:
+        t0, t1 = stages[i - 1]["time"], stages[i]["time"]
+        sel = (t >= t0) & (t <= t1)
+        out.append({"start_s": t0, "end_s": t1, "t_s": t[sel].tolist(),
+                    "mean_m": mean[sel].tolist()})
+    return out
+
+
+def equal_time(runs: list) -> dict | None:
+    """The DEM runs compared at the same model time within the first mining solve that none of
+    them ends at rest: each run's mean prism displacement (m, mining-induced) at the solve's
+    start plus the shortest of their solve times. A failing solve ends where its judge proved
+    the mechanism, which differs from run to run, so the displacements at the solves' ends
+    compare the judges' stopping times; at the same time they compare the mechanisms' speeds.
+    None when every solve of some run comes to rest."""
+    if not runs or any("motion" not in r["mining"] for r in runs):
+        return None                   # runs kept from before the histories were recorded
+    verdicts = [r["mining"]["verdict"] for r in runs]
+    for k in range(min(len(v) for v in verdicts)):
+        if all(v[k] != "equilibrium" for v in verdicts):
+            motions = [r["mining"]["motion"][k] for r in runs]
+            span = min(m["end_s"] - m["start_s"] for m in motions)
+            return {"stage": k + 1, "time_s": span,
+                    "mean_m": {r["label"]: float(np.interp(m["start_s"] + span, m["t_s"],
+                                                           m["mean_m"]))
+                               for r, m in zip(runs, motions)}}
+    return None
 
 
 BANDS = {"toe": (scene.Y_TOE, scene.Y_PREMINING), "mid-slope": (scene.Y_PREMINING,
@@ -188,7 +227,7 @@ def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
     runs = {r["label"]: r for r in run_sweep(run_member, ms, workers=v["workers"],
                                              progress=progress)}
     dem = [runs[m["label"]] for m in ms if m["label"] != "conventional"]
-    result.methods["dem"] = {"runs": [_method(r) for r in dem],
+    result.methods["dem"] = {"runs": [_method(r) for r in dem], "equal_time": equal_time(dem),
                              "runtime_s": float(sum(r["runtime_s"] for r in dem))}
     _errors(result, dem[0]["mining"], "dem")
     if "conventional" in runs:

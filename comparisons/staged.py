@@ -11,8 +11,12 @@ runs it (``dem_core.workflow.stages.run_stages``), reports progress per stage an
   ``measure_steps`` (the steps the response-time measurements ran, ``Model.measure_response``),
   ``critical_dt_start`` (s: the built model's critical step, ``Model.critical_dt``, before any
   stage);
-- ``stages``: per stage kind, verdict, steps, wall seconds, each monitoring point's (ux, uy) (m)
-  and the crack counts (tension, shear);
+- ``stages``: per stage kind, verdict, steps, wall seconds, the model time at its end (s),
+  each monitoring point's (ux, uy) (m) and the crack counts (tension, shear);
+- ``point_history`` when the member asks for it (``member["point_history"]``): the model's
+  histories of time (s) and each monitoring point's ux and uy (m), recorded every
+  ``history_every`` steps over the whole run (e.g. to compare two runs at the same model time
+  within a failing stage, where the stage's end is where its judge stopped);
 - ``search``: the last search stage's levels, verdicts, steps and each point's ux and uy per
   level (m), its ``parameter``, ``last_stable`` and ``failure`` values (None when nothing
   failed), ``unstable`` and ``blowups`` (as ``limit.LimitRecord``); None without a search;
@@ -104,7 +108,8 @@ def stage_run(sc, member: dict, crack_materials=INTACT, stop_on_failure=None,
         "blocks": int(model.blocks.n_blocks), "contacts": int(model.contacts.n),
         "critical_dt_start": critical_dt,
         "stages": [{"kind": r.kind, "verdict": r.verdict, "steps": int(r.steps),
-                    "seconds": float(r.seconds), "points": {k: list(v) for k, v in
+                    "seconds": float(r.seconds), "time": float(r.time),
+                    "points": {k: list(v) for k, v in
                                                             r.points.items()},
                     "cracks": dict(r.cracks)} for r in out_records],
         "search": _search(out_records),
@@ -117,7 +122,15 @@ def stage_run(sc, member: dict, crack_materials=INTACT, stop_on_failure=None,
         "runtime_s": time.perf_counter() - t0,
         "measure_steps": int(getattr(model, "measured_steps", 0)),
         **({"poses": pose_log} if poses else {}),
+        **({"point_history": point_history(model)} if member.get("point_history") else {}),
     }
+
+
+def point_history(model) -> dict:
+    """The model's recorded time (s) and each monitoring point's ux and uy (m), as lists."""
+    h = model.history.as_arrays()
+    keep = ["time"] + [f"{n}.{c}" for n in model.points for c in ("ux", "uy")]
+    return {k: h[k].tolist() for k in keep if k in h}
 
 
 def judged_stages(stages, judge, windows=None) -> list:

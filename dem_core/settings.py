@@ -170,8 +170,9 @@ class SolveSettings:
         its first judged solve, ``workflow.response.measure_response``).
     windows : the cap of a ``judge="response"`` solve, in windows (the first three N_r
         steps long; one after a window that slowed is twice as long, up to 8 N_r,
-        ``workflow.response.next_span``; 20 windows are at most 129 N_r): a solve that has neither come to rest nor shown a mechanism by then is
-        "undecided".
+        ``workflow.response.next_span``; 40 windows are at most 289 N_r): a solve that has
+        neither come to rest nor shown a mechanism by then is "undecided" (20 before
+        2026-12-01: a slow mechanism first seen after about 80 N_r could not be seen again).
     """
 
     ratio: float = 1e-5
@@ -182,7 +183,7 @@ class SolveSettings:
     settle: bool = False
     judge: str | None = None
     response_steps: int | None = None
-    windows: int = 20
+    windows: int = 40
 
     def validated(self, where="solve") -> "SolveSettings":
         """Itself with ``judge`` and ``max_steps`` resolved (a judge of None is "budget" where

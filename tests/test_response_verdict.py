@@ -208,6 +208,39 @@ def test_a_block_pulled_past_its_bolted_limit_is_failing_under_the_response_judg
     assert res.verdict == "failing"
 
 
+@pytest.mark.parametrize("factor", [1, 2])
+def test_a_slow_mechanism_without_a_failure_displacement_is_failing_at_the_same_step(factor):
+    """Past its yielding bolt the block slides at 2-4 % of creep with the ratio at 2-3e-3,
+    slowing by about a tenth a window: neither rest nor a mechanism above creep; without a
+    failure displacement it was "undecided" at 20 windows and "standing still" (a ratio of
+    9e-4) at 40. The slow-mechanism test on three windows of ``LONGEST`` N_r calls it
+    failing, at the same step whatever the cap."""
+    from dem_core.workflow.response import LONGEST
+    from test_support import bolted_block, limit_pull
+    m = bolted_block(1.02 * limit_pull())
+    res = m.solve(ratio=1e-6, judge="response", windows=factor * WINDOWS)
+    assert res.verdict == "failing" and res.reason.startswith("a slow mechanism"), res.reason
+    assert res.steps == 73 * res.response_steps            # window 13: 3 + 2 + 4 + 8 x 8 N_r
+    assert f"({LONGEST:g}, {LONGEST:g} and {LONGEST:g} N_r" in res.reason
+
+
+def test_a_slow_motion_is_judged_on_the_longest_windows_only():
+    """The same three windows below creep keep their speed and ratio: on windows of N_r a
+    slow motion is not yet judged; on three windows of ``LONGEST`` N_r it is a mechanism;
+    one at most ``STILL`` of creep is standing still, not a mechanism."""
+    from dem_core.workflow.response import LONGEST, STILL, _window_verdict
+    creep, n_r = 1e-3, 100
+    before = [(0.5 * creep, 0.5 * creep, 1e-3)] * 2
+    now = (0.5 * creep, 0.5 * creep, 1e-3)
+    assert _window_verdict(6, now, 1, before, creep, n_r, "a block", [n_r] * 6, False) is None
+    longest = [n_r] * 3 + [LONGEST * n_r] * 3
+    verdict, reason = _window_verdict(6, now, 1, before, creep, n_r, "a block", longest, False)
+    assert verdict == "failing" and reason.startswith("a slow mechanism")
+    still = [(0.5 * STILL * creep, 0.5 * STILL * creep, 1e-3)] * 3
+    assert _window_verdict(6, still[0], 0, still[:2], creep, n_r, "a block", longest,
+                           False)[0] == "equilibrium"
+
+
 def test_a_block_pulled_past_a_cables_capacity_is_failing_under_the_response_judge():
     """Read as at rest at window 2 before the ratio had to decay (docs/history.md)."""
     from test_support import pulled_cable, two_blocks
