@@ -2,7 +2,8 @@
 judges (``dem_core.settings.SolveSettings.judge``) at 1x and 2x the cap: "budget" (the cases'
 judge, the verdict at ``max_steps``; every budget of the variant, its settings ending in
 "steps", times the factor) and "response" (the verdict over windows of the measured response
-time, ``dem_core/workflow/response.py``; ``windows`` times the factor).
+time, ``dem_core/workflow/response.py``; the default ``windows``, ``SolveSettings().windows``,
+times the factor).
 
     .venv/bin/python benchmarks/verdict_budgets.py [--cases adhikary underdip ...]
         [--judges budget response] [--solver JSON] [--out NAME] [--reference]
@@ -27,6 +28,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from scenes import machine, write_json  # noqa: E402
+from dem_core.settings import SolveSettings  # noqa: E402
 from dem_core.workflow.stages import STOPS  # noqa: E402
 
 CASES = ["adhikary", "longtan", "underdip", "coal_buckling", "highwood", "lornex",
@@ -65,7 +67,7 @@ def members(case, v, judge, factor):
     for m in out:
         m["judge"] = judge
         if judge == "response":
-            m["windows"] = int(round(20 * factor))
+            m["windows"] = int(round(SolveSettings().windows * factor))
     return out
 
 
