@@ -30,8 +30,8 @@ def _close_figures():
 # files that never step one, in this process or a child: the other worker runs them meanwhile
 # and then loads the step from numba's cache instead of compiling it as well
 # (``dem_core.jit_cache`` makes it wait for the cache if it gets there first). Then the
-# longest files (seconds on the 2-core VM, 2026-11-26, two workers, one-process sweeps), so
-# that the two workers finish together; the rest in their usual order.
+# longest files (their seconds, fixtures included, AMD EPYC 2-core, 2026-12-01, two workers,
+# one-process sweeps), so that the two workers finish together; the rest in their usual order.
 COMPILES_THE_STEP = ["test_mech_closed_forms.py"]        # steps at its first test
 NEVER_STEPS = ["test_continuum_ssr.py",                # 140 s (Davis and associated meshes)
                "test_continuum_robustness.py",         # 13
@@ -42,17 +42,20 @@ NEVER_STEPS = ["test_continuum_ssr.py",                # 140 s (Davis and associ
                "test_continuum_staged.py",
                "test_continuum_hoek_brown.py",
                "test_continuum_footing.py"]
-LONGEST = ["test_common_toppling_quick.py",            # 253 s
-           "test_adhikary_quick.py",                   # 167
-           "test_longtan_quick.py",                    # 104
-           "test_lajtai_case.py",                      # 93
-           "test_checkerboard_quick.py",               # 77
-           "test_lornex_quick.py",                     # 61
-           "test_voronoi_beam.py",                     # 56
-           "test_examples.py",                         # 47
-           "test_lajtai_deformable.py",                # 45
-           "test_underdip_quick.py",                   # 30
-           "test_deformable.py"]                       # 28 (compiles the threaded step)
+LONGEST = ["test_adhikary_quick.py",                   # 518
+           "test_common_toppling_quick.py",            # 211
+           "test_lornex_quick.py",                     # 125
+           "test_examples.py",                         # 102 (the README's slope)
+           "test_same_bits.py",                        # 93
+           "test_sweep_mpi.py",                        # 67
+           "test_underdip_quick.py",                   # 57
+           "test_lajtai_case.py",                      # 46
+           "test_adhikary_case.py",                    # 36
+           "test_checkerboard_quick.py",               # 25
+           "test_lajtai_deformable.py",                # 19
+           "test_longtan_quick.py",                    # 17
+           "test_voronoi_beam.py",
+           "test_deformable.py"]                       # compiles the threaded step
 _ORDER = {name: i for i, name in enumerate(COMPILES_THE_STEP + NEVER_STEPS + LONGEST)}
 
 
