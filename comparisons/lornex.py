@@ -244,7 +244,7 @@ def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
         result.methods["continuum"] = c
         _errors(result, {"cumulative": c["cumulative"], "last_block": lasts}, "continuum")
     _curves_and_figures(result, list(runs.values()), dem)
-    result.notes += _notes(v, runs)
+    result.notes += _notes(v, runs, result.methods["dem"]["equal_time"])
     return result
 
 
@@ -258,16 +258,26 @@ def _errors(result, mining: dict, method: str) -> None:
                              TABLE_6_4[k][mining["last_block"][len(vals) - 1] - 1], method)
 
 
-def _notes(v, runs) -> list:
+def _notes(v, runs, same=None) -> list:
     out = ["The section, the mining blocks, the RMR zones, the toppling zone, the prisms' "
            "places and the water table are reconstructed from the thesis's words (its figures "
            "6.5-6.13 were not available): comparisons/scenes/lornex.py states each assumption.",
            "Mining-induced displacement: |u(after the stage) - u(pre-mining equilibrium)| of "
            "each prism (m); Table 6.4 is the field's total minus the background movement.",
-           f"Each solve stops at equilibrium or after {v['max_steps']} steps (verdict 'failed': "
-           "still moving; its displacement then grows with the step cap)."]
+           (f"Each solve stops at equilibrium or after {v['max_steps']} steps (verdict "
+            "'failed': still moving; its displacement then grows with the step cap)."
+            if v.get("judge") == "budget" else
+            "Each solve ends at rest ('equilibrium') or where the response judge proved a "
+            "mechanism ('failing'): a failing solve's displacement is where the judge stopped, "
+            "a lower bound of what the failing slope moves, so runs are compared at the same "
+            "model time (below).")]
     for label, r in runs.items():
         out.append(f"{label}: stage verdicts {r['mining']['verdict']}")
+    if same:
+        out.append(f"At the same model time, {same['time_s']:.1f} s into mining stage "
+                   f"{same['stage']} (the first that no DEM run ends at rest), the mean "
+                   "mining-induced displacement of the four prisms: " + ", ".join(
+                       f"{k} {val:.2f} m" for k, val in same["mean_m"].items()) + ".")
     return out
 
 

@@ -62,6 +62,7 @@ def test_higher_tensile_strength_cracks_less_and_moves_less(quick):
     assert same is not None and same["time_s"] > 0
     moved = same["mean_m"]
     assert moved[strong["label"]] < moved[weak["label"]], same
+    assert any(n.startswith("At the same model time") for n in quick.notes)
 
 
 def test_damage_model_moves_more_and_fits_better_than_conventional(quick):
