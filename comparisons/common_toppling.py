@@ -50,7 +50,7 @@ from __future__ import annotations
 from comparisons import centrifuge
 from comparisons.results import CaseResult, Curve
 from comparisons.scenes import common_toppling as scene
-from comparisons.staged import stage_run
+from comparisons.staged import judge_note, stage_run
 from comparisons.sweep import run_sweep
 from comparisons.variants import STAGED_OPTIONAL, pick_variant
 from dem_core.workflow.stages import STOPS, ChangeMaterial, Excavate, Gravity, Solve
@@ -331,9 +331,9 @@ def _notes(v) -> list:
         "Behind the zone the columns are cut into coarse cells glued by unbreakable contacts, "
         "so they bend (UDEC's zoned blocks) but cannot break (the thesis had no flaws there); "
         "a rupture is therefore confined to the zone and tends to follow its inner edge.",
-        f"Failure at a solve or schedule level: no equilibrium (ratio 1e-5) within "
-        f"{v['max_steps']} steps, with a block moved > {FAILURE_DISPLACEMENT} m or the largest "
-        f"displacement still growing at the limit ('moving', slowing, counts as standing). "
+        judge_note(v["judge"], f"no equilibrium (ratio 1e-5) within {v['max_steps']} steps "
+                   "with the largest displacement still growing ('moving', slowing, counts as "
+                   "standing)", FAILURE_DISPLACEMENT),
         f"T resolution {v['refine_to'] / MPA:g} MPa; T schedule from {T_START / MPA:g} MPa.",
         "Continuum: table 5.2's intact rock without joints (an upper bound); the joints' "
         "strength everywhere (c 0, phi 30) would stand only to 30 degrees: F = 0.33 at 60.",

@@ -54,7 +54,8 @@ from dem_core.workflow.scene import build_model
 from dem_core.workflow.stages import check_stages, run_stages
 
 __all__ = ["INTACT", "stage_run", "settled_stages", "judged_stages", "search_rows",
-           "history_figure", "coincident_rims", "curve_styles", "value_at_failure"]
+           "history_figure", "coincident_rims", "curve_styles", "value_at_failure",
+           "judge_note"]
 
 INTACT = ("flaw:", "boundary:")        # bonds through intact rock (not joints)
 _SEARCH_KEYS = ("search", "ramp")
@@ -130,6 +131,20 @@ def point_history(model) -> dict:
     h = model.history.as_arrays()
     keep = ["time"] + [f"{n}.{c}" for n in model.points for c in ("ux", "uy")]
     return {k: h[k].tolist() for k in keep if k in h}
+
+
+def judge_note(judge, budget: str, failure_displacement=None, what="a block") -> str:
+    """The report's sentence on what a failed solve or level means under ``judge``:
+    "response" (``dem_core.workflow.response``) or "budget" (``budget``: the case's own
+    sentence on its step budget, e.g. "no equilibrium within 40000 steps")."""
+    past = (f"{what} moves more than {failure_displacement} m in it, or "
+            if failure_displacement is not None else "")
+    if judge == "budget":
+        return f"Failure at a solve or level (budget judge): {past}{budget}."
+    return ("Failure at a solve or level (response judge, docs/mechanics.md): " + past
+            + "a mechanism seen twice over windows of the model's measured response time "
+              "('failing'), or neither at rest nor a mechanism within the cap ('undecided'); "
+              "neither counts as standing, and no step budget is in the answer.")
 
 
 def judged_stages(stages, judge, windows=None) -> list:

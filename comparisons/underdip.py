@@ -230,9 +230,9 @@ def _notes(v) -> list:
         "(comparisons/chapter5.py: with kinetic damping the slope collapsed dynamically).",
         "After T the cohesion is lowered at T = 0 (not in the thesis): which strength the "
         "mechanism needs.",
-        f"Failure: a watched point ({', '.join(WATCH)}) moves more than "
-        f"{FAILURE_DISPLACEMENT} m in a level or is still moving (> {CREEP} m over the last "
-        f"fifth, not slowing) after {v['max_steps']} steps.",
+        staged.judge_note(v["judge"], f"still moving (> {CREEP} m over the last fifth, not "
+                          f"slowing) after {v['max_steps']} steps", FAILURE_DISPLACEMENT,
+                          f"a watched point ({', '.join(WATCH)})"),
         "Geometry beyond the height and dips, density and block modulus are assumptions "
         "(comparisons/scenes/underdip.py).",
         "The largest movement's height is chaotic: the density changed by 1 ULP moves it from "

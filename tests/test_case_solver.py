@@ -95,3 +95,14 @@ def test_a_member_with_the_budget_judge_judges_every_stage_so():
     judged = staged.judged_stages(sc.stages, member["judge"])
     has = [st for st in judged if hasattr(st, "judge")]
     assert has and all(st.judge == "budget" for st in has)
+
+
+def test_the_failure_note_says_what_the_judge_calls_failure():
+    """The response judge's note names its verdicts and no step budget; the budget judge's
+    keeps the case's own sentence; a failure displacement is named in both."""
+    from comparisons.staged import judge_note
+    response = judge_note("response", "no equilibrium within 40000 steps", 1.0)
+    assert "'failing'" in response and "'undecided'" in response
+    assert "40000" not in response and "more than 1.0 m" in response
+    budget = judge_note("budget", "no equilibrium within 40000 steps", None)
+    assert "40000 steps" in budget and "failing" not in budget
