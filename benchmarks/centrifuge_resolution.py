@@ -53,12 +53,12 @@ MODE_II_RATIO = 10.0
 # blocks settle more slowly: more blocks along a column, more steps per period of its lowest
 # mode; the case's own edge keeps its own setting), the base T (MPa) and the references
 CASES = {
-    "adhikary": dict(module=adhikary, params=adhikary.scene.AdhikaryParams, max_steps={0.008: 30_000, 0.006: 40_000, 0.004: 60_000,
-                                                 0.003: 80_000},
+    "adhikary": dict(module=adhikary, params=adhikary.scene.AdhikaryParams,
+                     max_steps={0.008: 30_000, 0.006: 40_000, 0.004: 60_000, 0.003: 80_000},
                      tensile=1.1, experiment=adhikary.REFERENCE["experiment_failure_g"],
                      thesis=adhikary.REFERENCE["thesis_dem_failure_g_T1.1"]),
-    "longtan": dict(module=longtan, params=longtan.scene.LongtanParams, max_steps={0.008: 30_000, 0.005: 60_000, 0.004: 70_000,
-                                               0.003: 90_000},
+    "longtan": dict(module=longtan, params=longtan.scene.LongtanParams,
+                    max_steps={0.008: 30_000, 0.005: 60_000, 0.004: 70_000, 0.003: 90_000},
                     tensile=4.81, experiment=longtan.REFERENCE["experiment_failure_g"],
                     thesis=longtan.REFERENCE["thesis_dem_failure_g"]),
 }
