@@ -123,7 +123,7 @@ def law(material, du_n, du_s, state=(0.0, 0.0, 0.0)):
     event, kappa, w_fracture, w_friction)."""
     table = MaterialTable.from_materials(["m"], [material]).strength_array()
     sn_e, ts, kappa = state
-    return coulomb_law(du_n, du_s, sn_e, ts, material.kn, material.ks, table, 0, 0, kappa, np.inf)
+    return coulomb_law(du_n, du_s, sn_e, ts, material.kn, material.ks, table, 0, 0, kappa)
 
 
 @pytest.mark.parametrize("shape", ["linear", "hordijk"])

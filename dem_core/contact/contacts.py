@@ -81,10 +81,6 @@ class Contacts(NamedTuple):
     up : (cap,) float64, m. Plastic (slip) shear displacement so far.
     broken : (cap,) int8. INTACT, TENSION, SHEAR or UNBONDED.
     slipping : (cap,) int8. 1 if at the Coulomb limit in the last step.
-    shear_cap : (cap,) float64, Pa. A bound on the shear stress the law lets the contact carry,
-        set by its edge element when the other end of the edge is open (Coulomb's limit on the
-        edge's compressed length as a stress on this contact, ``forces.edge_correction``); inf
-        otherwise. It is the last step's: the law reads it before the edge's new state is known.
     damage : (cap,) float64. kappa, the damage variable of a softening bond (0 intact, 1
         fully softened; ``softening.py``); 0 for every other contact.
     work_fracture, work_friction : (cap,) float64, J/m. Plastic work the contact has spent so
@@ -114,7 +110,6 @@ class Contacts(NamedTuple):
     up: np.ndarray
     broken: np.ndarray
     slipping: np.ndarray
-    shear_cap: np.ndarray
     damage: np.ndarray
     work_fracture: np.ndarray
     work_friction: np.ndarray
@@ -127,7 +122,6 @@ class Contacts(NamedTuple):
             shape = (cap, 2) if name in _VECTORS else (cap,)
             arrs[name] = np.zeros(shape, dtype=_DTYPES.get(name, np.float64))
         arrs["partner"][:] = -1
-        arrs["shear_cap"][:] = np.inf
         return cls(**arrs, count=np.zeros(1, np.int64))
 
     @property
@@ -156,7 +150,6 @@ class Contacts(NamedTuple):
         where[rows] = np.arange(rows.size)
         old = self.partner[rows].astype(np.int64)
         new.partner[:rows.size] = where[np.where(old >= 0, old, self.n)]
-        new.shear_cap[:rows.size][new.partner[:rows.size] < 0] = np.inf   # no edge: no cap
         return new
 
     def live(self, name: str) -> np.ndarray:
@@ -205,7 +198,7 @@ class Contacts(NamedTuple):
 
 ARRAYS = tuple(f for f in Contacts._fields if f != "count")
 # arrays that model files written before them do not have
-_ADDED = ("partner", "damage", "work_fracture", "work_friction", "shear_cap")
+_ADDED = ("partner", "damage", "work_fracture", "work_friction")
 
 
 @njit(cache=True)

@@ -285,7 +285,6 @@ def _append(new, cand, s, p, wv, material, rnd, margin, cut):
     new.material[r] = material
     new.broken[r] = UNBONDED
     new.slipping[r] = 0
-    new.shear_cap[r] = np.inf
     for name in ("sn", "ts", "sn_elastic", "us", "up", "un", "damage", "work_fracture",
                  "work_friction"):
         getattr(new, name)[r] = 0.0

@@ -246,8 +246,6 @@ def _divide_group(g0, g1, order, c, p, s, rnd, pts, nrm, margin, made, on, st, f
         if q >= 0 and not (m == 2 and (q == on[0] or q == on[1])):
             c.partner[q] = -1
             c.partner[k] = -1
-            c.shear_cap[q] = np.inf           # two point contacts: no edge to bound them
-            c.shear_cap[k] = np.inf
     return changed
 
 

@@ -12,14 +12,8 @@ the later of the two adds the difference, (L/6) (sigma_2 - sigma_1) at end 1 and
 at end 2: a couple (``edge_correction``). When one end is open (separated: it carries nothing,
 its spring stretched past the cut-off), the edge carries the compressed part of the same linear
 field, a triangle whose resultant moves from L/3 towards the closed corner as the edge opens
-(a rigid block tips about its corner as on an elastic foundation). In shear the closed end is
-then a lumped spring (its force l t, stiffness ks l), bounded by Coulomb's limit on the
-compressed length x0: |F| <= c x0 + tan(phi) N with N the triangle's resultant, which its law
-takes as a cap on its shear stress from the next step on (``_open_cap``,
-``Contacts.shear_cap``; the law then slips it and books the friction work). (Spreading the closed end's shear stress over the
-compressed part, the rule before 2026-12-01, made the shear force t x0 / 2 a spring whose
-stiffness the rocking itself varies: not conservative; an undamped block rocking on a 20
-degree plane gained energy until it toppled, docs/history.md.) Once the two contacts have slid apart (their points no longer
+(a rigid block tips about its corner as on an elastic foundation), the shear stress of the
+closed end spread in proportion. Once the two contacts have slid apart (their points no longer
 span the edge's length to 1 %) they are two point contacts again. ``Model(edge_elements=True)``
 turns this on (pairs in ``Contacts.partner``); off, every contact is its own spring. The edge
 then turns under a moment M with the rotational stiffness kn L^3/12 and fails (an end reaches
@@ -45,8 +39,6 @@ from .boundary_points import deformed_points, rest_points
 from .contacts import ANCHOR_A, ANCHOR_B
 from ..step.kinematics import body_point, contact_normal, unrotate
 from .law import coulomb_law
-from .materials import (COL_BREAKABLE, COL_COHESION, COL_RESIDUAL_COHESION,
-                        COL_RESIDUAL_TAN_FRICTION, COL_TAN_FRICTION)
 from .rounding import corner_centre, is_rounded, rounded_contact
 from ..step.state import no_parallel
 
@@ -134,7 +126,7 @@ def contact_update(k, c, strength, s, rnd, zones):
     u_s = (yb - ya) * nx - (xb - xa) * ny
     s_n, t_s, sn_e, slip, event, kappa, w_frac, w_fric = coulomb_law(
         u_n - c.un[k], u_s - c.us[k], c.sn_elastic[k], c.ts[k], c.kn[k], c.ks[k], strength,
-        c.material[k], c.broken[k], c.damage[k], c.shear_cap[k])
+        c.material[k], c.broken[k], c.damage[k])
     c.sn[k] = s_n
     c.ts[k] = t_s
     c.sn_elastic[k] = sn_e
@@ -179,17 +171,15 @@ SPAN_TOLERANCE = 0.02
 
 
 @njit(cache=True, inline="always")
-def edge_correction(k, c, s, xk, yk, strength):
+def edge_correction(k, c, s, xk, yk):
     """What turns the lumped forces of contact k and its partner p (this step's stresses:
     p < k in contact order) into the edge's element (module docstring): (fx, fy) the extra
     force on B (N/m; minus it on A), and the extra moments (N m/m) on B about B's centroid and
-    on A about A's. The forces act at k's point (xk, yk) and at p's. Sets both contacts'
-    ``shear_cap`` (``_open_cap``: the closed end's with one end open, else inf)."""
+    on A about A's. The forces act at k's point (xk, yk) and at p's."""
     p = c.partner[k]
     le = c.length[k] + c.length[p]
     xp, yp = _force_point(p, c, s)
     span = (xk - xp) * (xk - xp) + (yk - yp) * (yk - yp)
-    c.shear_cap[k], c.shear_cap[p] = np.inf, np.inf
     if abs(span - le * le) > SPAN_TOLERANCE * le * le:
         return 0.0, 0.0, 0.0, 0.0        # the halves slid apart: two point contacts again
     sk, sp = c.sn[k], c.sn[p]
@@ -201,13 +191,13 @@ def edge_correction(k, c, s, xk, yk, strength):
     elif closed_k and sk > 0.0:          # p open: the compressed part of the linear field
         rk, rp = _open_end(sk, c.sn_elastic[p], le, c.length[k])
         lk = c.length[k]
-        dk, dp, dt, dtp = (rk - 1.0) * lk * sk, rp * lk * sk, 0.0, 0.0
-        c.shear_cap[k] = _open_cap(k, c, strength, (rk + rp) * lk * sk, 2.0 * (rk + rp) * lk)
+        dk, dp, dt, dtp = (rk - 1.0) * lk * sk, rp * lk * sk, (rk - 1.0) * lk * c.ts[k], \
+            rp * lk * c.ts[k]
     elif closed_p and sp > 0.0:          # k open
         rp, rk = _open_end(sp, c.sn_elastic[k], le, c.length[p])
         lp = c.length[p]
-        dp, dk, dtp, dt = (rp - 1.0) * lp * sp, rk * lp * sp, 0.0, 0.0
-        c.shear_cap[p] = _open_cap(p, c, strength, (rp + rk) * lp * sp, 2.0 * (rp + rk) * lp)
+        dp, dk, dtp, dt = (rp - 1.0) * lp * sp, rk * lp * sp, (rp - 1.0) * lp * c.ts[p], \
+            rk * lp * c.ts[p]
     else:
         return 0.0, 0.0, 0.0, 0.0
     a, b = c.block_a[k], c.block_b[k]
@@ -233,24 +223,6 @@ def _open_end(s_closed, e_open, le, l_closed):
     total = 0.5 * x0 / l_closed
     far = total * x0 / (3.0 * le)
     return total - far, far
-
-
-@njit(cache=True, inline="always")
-def _open_cap(q, c, strength, normal, x0):
-    """Contact q's ``shear_cap`` (Pa) as the closed end of an edge whose other end is open:
-    Coulomb's limit on the compressed length x0 (m), c x0 + tan(phi) ``normal`` (N/m, the
-    triangle's resultant), over q's length (q's residual strengths once it has broken; inf
-    for a glued contact). The edge transmits q's lumped shear force l t, a spring of stiffness
-    ks l whatever the opening (so the rocking that changes x0 does no work through it), and
-    q's law slips it at this cap from the next step on (and books the friction work)."""
-    m = c.material[q]
-    if strength[m, COL_BREAKABLE] == 0.0:
-        return np.inf
-    if c.broken[q] == 0:
-        coh, tanphi = strength[m, COL_COHESION], strength[m, COL_TAN_FRICTION]
-    else:
-        coh, tanphi = strength[m, COL_RESIDUAL_COHESION], strength[m, COL_RESIDUAL_TAN_FRICTION]
-    return max(0.0, coh * x0 + tanphi * normal) / c.length[q]
 
 
 @njit(cache=True, inline="always")
@@ -357,7 +329,7 @@ def chunk_forces(c, strength, s, rnd, zones, par, edges, j, cracks, time):
             f[a, 2] -= (xa - pos[a, 0]) * fy - (ya - pos[a, 1]) * fx
         p = c.partner[k] if edges else -1
         if 0 <= p < k and p >= k0:     # the edge's share (``edge_correction``): partner here
-            gx, gy, mb, ma = edge_correction(k, c, s, xa, ya, strength)
+            gx, gy, mb, ma = edge_correction(k, c, s, xa, ya)
             if not (own_a and own_b):  # for the shared pass (the owned blocks may move)
                 ew = par.edge_work
                 ew[k, 0] = gx

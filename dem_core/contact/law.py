@@ -50,7 +50,7 @@ ELASTIC, TENSION_FAILURE, SHEAR_FAILURE, SLIP, OPEN, SOFTENING = 0, 1, 2, 3, 4, 
 
 
 @njit(cache=True, inline="always")
-def coulomb_law(du_n, du_s, sn_e, ts, kn, ks, strength, m, broken, kappa, cap):
+def coulomb_law(du_n, du_s, sn_e, ts, kn, ks, strength, m, broken, kappa):
     """One contact over one step: returns (sn, ts, sn_e, slip, event, kappa, w_fracture,
     w_friction).
 
@@ -63,8 +63,6 @@ def coulomb_law(du_n, du_s, sn_e, ts, kn, ks, strength, m, broken, kappa, cap):
         ``materials.COL_*``); m : the contact's material row.
     broken : int. 0 intact (peak strength), otherwise residual strength.
     kappa : float. The damage variable of a softening bond (``softening.py``), else 0.
-    cap : float, Pa. Upper bound of the Coulomb limit (``Contacts.shear_cap``: an edge with
-        one end open; inf otherwise). A softening bond's own law does not take it.
 
     Returns
     -------
@@ -103,7 +101,7 @@ def coulomb_law(du_n, du_s, sn_e, ts, kn, ks, strength, m, broken, kappa, cap):
             return 0.0, 0.0, sn_e, du_s - ts / ks, TENSION_FAILURE, kappa, \
                 0.5 * (T * T / kn + ts * ts / ks), 0.0
         return 0.0, 0.0, sn_e, du_s - ts / ks, OPEN, kappa, 0.0, 0.0
-    tau_max = min(c + sn_e * tanphi, cap)
+    tau_max = c + sn_e * tanphi
     if tau_max < 0.0:
         tau_max = 0.0
     if abs(trial) > tau_max:

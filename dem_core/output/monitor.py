@@ -89,8 +89,7 @@ def strain_energy(c):
     (sn^2/kn + ts^2/ks) / 2 over the length each carries. A lone contact's stress is uniform over
     its length L: L (sn^2/kn + ts^2/ks) / 2; the two halves of an edge carry a linear field
     (``forces`` module docstring): (Le/6) (s1^2 + s1 s2 + s2^2) / kn and the same in shear, or,
-    with one end open, the triangle over x0 in compression, x0 s^2 / (6 kn), and the closed
-    end's lumped shear spring, l t^2 / (2 ks)."""
+    with one end open, the triangle over x0: x0 (s^2/kn + t^2/ks) / 6."""
     e = 0.0
     for k in range(c.count[0]):
         p = c.partner[k]
@@ -106,11 +105,9 @@ def strain_energy(c):
             e += le / 6.0 * ((sk * sk + sk * sp + sp * sp) / kn + (tk * tk + tk * tp + tp * tp)
                              / ks)
         elif closed_k and sk > 0.0:
-            e += le * sk / (sk - c.sn_elastic[p]) * sk * sk / kn / 6.0
-            e += 0.5 * c.length[k] * tk * tk / ks
+            e += le * sk / (sk - c.sn_elastic[p]) * (sk * sk / kn + tk * tk / ks) / 6.0
         elif closed_p and sp > 0.0:
-            e += le * sp / (sp - c.sn_elastic[k]) * sp * sp / c.kn[p] / 6.0
-            e += 0.5 * c.length[p] * tp * tp / c.ks[p]
+            e += le * sp / (sp - c.sn_elastic[k]) * (sp * sp / c.kn[p] + tp * tp / c.ks[p]) / 6.0
     return e
 
 

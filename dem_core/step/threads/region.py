@@ -140,7 +140,7 @@ def _close(n, nsteps, integ, world, gravity, par, sync, clock, results):
     s, p, c = world.state, world.props, world.contacts
     nb = s.pos.shape[0]
     log_failures(c, world.cracks, clock[0], par)
-    shared_forces(c, s, par, integ.edge_elements, world.strength)
+    shared_forces(c, s, par, integ.edge_elements)
     ns = par.shared.shape[0]
     add_gravity_to(gravity, s, p, par.shared, 0, ns)
     first_unstable, last_search = nb, -1
