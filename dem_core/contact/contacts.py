@@ -81,6 +81,10 @@ class Contacts(NamedTuple):
     up : (cap,) float64, m. Plastic (slip) shear displacement so far.
     broken : (cap,) int8. INTACT, TENSION, SHEAR or UNBONDED.
     slipping : (cap,) int8. 1 if at the Coulomb limit in the last step.
+    edge_x0 : (cap,) float64, m. The compressed length of the contact's edge element at the
+        last step where the contact was closed (its whole length with both ends closed; 0: no
+        edge element, or this end open), so that a compressed length that grows brings no
+        shear with it (``forces.edge_correction``).
     damage : (cap,) float64. kappa, the damage variable of a softening bond (0 intact, 1
         fully softened; ``softening.py``); 0 for every other contact.
     work_fracture, work_friction : (cap,) float64, J/m. Plastic work the contact has spent so
@@ -110,6 +114,7 @@ class Contacts(NamedTuple):
     up: np.ndarray
     broken: np.ndarray
     slipping: np.ndarray
+    edge_x0: np.ndarray
     damage: np.ndarray
     work_fracture: np.ndarray
     work_friction: np.ndarray
@@ -150,6 +155,7 @@ class Contacts(NamedTuple):
         where[rows] = np.arange(rows.size)
         old = self.partner[rows].astype(np.int64)
         new.partner[:rows.size] = where[np.where(old >= 0, old, self.n)]
+        new.edge_x0[:rows.size][new.partner[:rows.size] < 0] = 0.0      # no edge left
         return new
 
     def live(self, name: str) -> np.ndarray:
@@ -198,7 +204,7 @@ class Contacts(NamedTuple):
 
 ARRAYS = tuple(f for f in Contacts._fields if f != "count")
 # arrays that model files written before them do not have
-_ADDED = ("partner", "damage", "work_fracture", "work_friction")
+_ADDED = ("partner", "damage", "work_fracture", "work_friction", "edge_x0")
 
 
 @njit(cache=True)

@@ -286,7 +286,7 @@ def _append(new, cand, s, p, wv, material, rnd, margin, cut):
     new.broken[r] = UNBONDED
     new.slipping[r] = 0
     for name in ("sn", "ts", "sn_elastic", "us", "up", "un", "damage", "work_fracture",
-                 "work_friction"):
+                 "work_friction", "edge_x0"):
         getattr(new, name)[r] = 0.0
     new.count[0] += m
     if rnd.radius > 0.0:

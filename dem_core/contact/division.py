@@ -246,6 +246,8 @@ def _divide_group(g0, g1, order, c, p, s, rnd, pts, nrm, margin, made, on, st, f
         if q >= 0 and not (m == 2 and (q == on[0] or q == on[1])):
             c.partner[q] = -1
             c.partner[k] = -1
+            c.edge_x0[q] = 0.0
+            c.edge_x0[k] = 0.0
     return changed
 
 

@@ -13,7 +13,13 @@ at end 2: a couple (``edge_correction``). When one end is open (separated: it ca
 its spring stretched past the cut-off), the edge carries the compressed part of the same linear
 field, a triangle whose resultant moves from L/3 towards the closed corner as the edge opens
 (a rigid block tips about its corner as on an elastic foundation), the shear stress of the
-closed end spread in proportion. Once the two contacts have slid apart (their points no longer
+closed end spread in proportion (so the edge meets Coulomb's limit on its compressed length
+x0, tan(phi) times the triangle's resultant). Where x0 grows, the part of the edge that
+closes comes in unstressed in shear: the closed end's shear stress is scaled by x0_old / x0
+(``Contacts.edge_x0``), so the edge's shear force does not grow with the contact (without it,
+t x0 / 2 at a constant t was a spring whose stiffness the rocking varies: an undamped block
+rocking on a plane gained energy until it toppled, docs/history.md); where x0 shrinks, the
+shear on the part that opens is let go. Once the two contacts have slid apart (their points no longer
 span the edge's length to 1 %) they are two point contacts again. ``Model(edge_elements=True)``
 turns this on (pairs in ``Contacts.partner``); off, every contact is its own spring. The edge
 then turns under a moment M with the rotational stiffness kn L^3/12 and fails (an end reaches
@@ -175,12 +181,15 @@ def edge_correction(k, c, s, xk, yk):
     """What turns the lumped forces of contact k and its partner p (this step's stresses:
     p < k in contact order) into the edge's element (module docstring): (fx, fy) the extra
     force on B (N/m; minus it on A), and the extra moments (N m/m) on B about B's centroid and
-    on A about A's. The forces act at k's point (xk, yk) and at p's."""
+    on A about A's. The forces act at k's point (xk, yk) and at p's. Keeps the edge's
+    compressed length in ``Contacts.edge_x0`` and scales a closed end's shear stress for the
+    next step where it grew (module docstring): call once per edge and step."""
     p = c.partner[k]
     le = c.length[k] + c.length[p]
     xp, yp = _force_point(p, c, s)
     span = (xk - xp) * (xk - xp) + (yk - yp) * (yk - yp)
     if abs(span - le * le) > SPAN_TOLERANCE * le * le:
+        c.edge_x0[k], c.edge_x0[p] = 0.0, 0.0
         return 0.0, 0.0, 0.0, 0.0        # the halves slid apart: two point contacts again
     sk, sp = c.sn[k], c.sn[p]
     closed_k, closed_p = sk == c.sn_elastic[k], sp == c.sn_elastic[p]
@@ -188,17 +197,24 @@ def edge_correction(k, c, s, xk, yk):
         w = le / 6.0
         dk, dt = w * (sp - sk), w * (c.ts[p] - c.ts[k])
         dp, dtp = -dk, -dt
+        _grown(k, c, le)
+        _grown(p, c, le)
     elif closed_k and sk > 0.0:          # p open: the compressed part of the linear field
         rk, rp = _open_end(sk, c.sn_elastic[p], le, c.length[k])
         lk = c.length[k]
         dk, dp, dt, dtp = (rk - 1.0) * lk * sk, rp * lk * sk, (rk - 1.0) * lk * c.ts[k], \
             rp * lk * c.ts[k]
+        _grown(k, c, 2.0 * (rk + rp) * lk)
+        c.edge_x0[p] = 0.0
     elif closed_p and sp > 0.0:          # k open
         rp, rk = _open_end(sp, c.sn_elastic[k], le, c.length[p])
         lp = c.length[p]
         dp, dk, dtp, dt = (rp - 1.0) * lp * sp, rk * lp * sp, (rp - 1.0) * lp * c.ts[p], \
             rk * lp * c.ts[p]
+        _grown(p, c, 2.0 * (rp + rk) * lp)
+        c.edge_x0[k] = 0.0
     else:
+        c.edge_x0[k], c.edge_x0[p] = 0.0, 0.0
         return 0.0, 0.0, 0.0, 0.0
     a, b = c.block_a[k], c.block_b[k]
     nx, ny = contact_normal(s, a, b, c.face[k], c.normal_b[k, 0], c.normal_b[k, 1])
@@ -209,6 +225,23 @@ def edge_correction(k, c, s, xk, yk):
     ma = ((xk - s.pos[a, 0]) * fky - (yk - s.pos[a, 1]) * fkx
           + (xp - s.pos[a, 0]) * fpy - (yp - s.pos[a, 1]) * fpx)
     return fkx + fpx, fky + fpy, mb, ma
+
+
+@njit(cache=True, inline="always")
+def _grown(q, c, x0):
+    """Closed end q of an edge whose compressed length is now x0 (m): if it was x0_old < x0
+    at the last step (``Contacts.edge_x0``), q's shear stress is scaled by x0_old / x0 for the
+    next step, so the shear force t x0 / 2 does not grow with the contact (the part that
+    closes comes in unstressed); the elastic energy that lets go by the open edge's measure
+    (``monitor.strain_energy``), x0_old t^2 (1 - x0_old / x0) / (6 ks), is booked as friction
+    work. x0 is kept for the next step."""
+    x_old = c.edge_x0[q]
+    if 0.0 < x_old < x0:
+        t = c.ts[q]
+        f = x_old / x0
+        c.work_friction[q] += t * t * x_old * (1.0 - f) / (6.0 * c.ks[q])
+        c.ts[q] = t * f
+    c.edge_x0[q] = x0
 
 
 @njit(cache=True, inline="always")

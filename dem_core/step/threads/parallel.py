@@ -161,8 +161,22 @@ def log_failures(c, cracks, time, par):
 @njit(cache=True, inline="always")
 def shared_forces(c, s, par, edges):
     """Each shared block's force: zeroed, then its contacts' forces from ``par.work`` added in
-    contact order (the serial kernel's order), with the edge elements' shares."""
+    contact order (the serial kernel's order), with the edge elements' shares. An edge whose
+    two contacts lie in two chunks gets its share here, once (``edge_correction`` keeps the
+    edge's compressed length and may scale a shear stress), before either block sums it."""
     f, pos, work = s.force, s.pos, par.work
+    if edges:
+        for r in range(par.shared.shape[0]):
+            for j in range(par.offsets[r], par.offsets[r + 1]):
+                e = par.entries[j]
+                k = e >> 1
+                p = c.partner[k]
+                if e & 1 and 0 <= p < k and not _same_chunk(par.first, p, k):
+                    gx, gy, mb, ma = edge_correction(k, c, s, work[k, 2], work[k, 3])
+                    par.edge_work[k, 0] = gx
+                    par.edge_work[k, 1] = gy
+                    par.edge_work[k, 2] = mb
+                    par.edge_work[k, 3] = ma
     for r in range(par.shared.shape[0]):
         i = par.shared[r]
         f[i, 0] = 0.0
@@ -181,12 +195,9 @@ def shared_forces(c, s, par, edges):
                 f[i, 1] -= fy
                 f[i, 2] -= (xa - pos[i, 0]) * fy - (ya - pos[i, 1]) * fx
             p = c.partner[k] if edges else -1
-            if 0 <= p < k:                   # the edge's share (forces.edge_correction)
-                if _same_chunk(par.first, p, k):   # the chunk computed it, before moving
-                    gx, gy, mb, ma = (par.edge_work[k, 0], par.edge_work[k, 1],
-                                      par.edge_work[k, 2], par.edge_work[k, 3])
-                else:         # both blocks are shared (contacts in two chunks), unmoved
-                    gx, gy, mb, ma = edge_correction(k, c, s, xa, ya)
+            if 0 <= p < k:                   # the edge's share (forces.edge_correction):
+                gx, gy, mb, ma = (par.edge_work[k, 0], par.edge_work[k, 1],  # by its chunk
+                                  par.edge_work[k, 2], par.edge_work[k, 3])  # or above
                 if e & 1:
                     f[i, 0] += gx
                     f[i, 1] += gy
