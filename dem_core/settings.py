@@ -61,7 +61,12 @@ class SolverOptions:
         checks' spacing is spread over 1/2 to 1 interval (``step.relaxation``); False: a check
         every ``kinetic_damping`` steps (the rule before 2026-11-30).
     edge_elements : the two contacts of a shared edge act as one linear interface element
-        (``contact.forces.edge_correction``): the exact bending of a bonded edge.
+        (``contact.forces.edge_correction``): the exact bending of a bonded edge, the contact
+        model whose answers converge with block size (docs/mechanics.md, "Edge elements").
+        None (the default): edge elements where every block is rigid, the end-spring pair
+        where the scene has deformable blocks (edge elements are not built on zones yet);
+        False: the end-spring pair everywhere (the default before 2026-12-01, three times
+        too stiff and too strong in bending).
     rounding : corner rounding radius d, m (0: sharp corners; ``contact.rounding``).
     divide_interfaces : at each contact search, divide every interface whose contacts have
         changed or slid among them from the current geometry (``contact.division``), and cut
@@ -86,7 +91,7 @@ class SolverOptions:
     threads: int = 1
     kinetic_damping: int = 0
     kinetic_adaptive: bool = True
-    edge_elements: bool = False
+    edge_elements: bool | None = None
     rounding: float = 0.0
     divide_interfaces: bool = False
     deformable: dict | None = None
@@ -112,6 +117,8 @@ class SolverOptions:
             raise ValueError("step_estimate='eigen' is for rigid blocks with sharp corners; "
                              f"got deformable={self.deformable!r}, rounding={self.rounding!r} "
                              "(use 'bound')")
+        if self.edge_elements is None:      # the default: edge elements on rigid blocks
+            return dataclasses.replace(self, edge_elements=self.deformable is None).validated()
         if self.dt is not None and not (math.isfinite(self.dt) and self.dt > 0):
             raise ValueError(f"dt must be a finite time step > 0 s, got {self.dt!r}")
         most = numba.config.NUMBA_NUM_THREADS

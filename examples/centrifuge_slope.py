@@ -7,12 +7,14 @@ the two are the same text). The scene is data, the file comparisons/scenes/adhik
 flaws in the columns, a fixed base and rollers on the sides, points A and B, every shared edge
 a linear element, and one stage: a g-ramp in 10 g levels, the first failure bisected and the
 ramp closed in 1 g steps, each level judged at rest or failing (the response judge). It fails
-at 40.4 g (last stable 39.4 g; 9 levels, about 2 minutes on one core). The file is already
+at 39.4 g (last stable 38.4 g; about 2 minutes on one core; 40.4 g before the half-open edge's
+shear was capped, 2026-12-01, docs/history.md). The file is already
 the quick size, so ``quick`` changes nothing.
 
 The assertion: the failure g within 10 % of the damage model's converged answer at these
 properties, ``CONVERGED_G``: the failure g at the finest blocks measured, 3 mm (38.1 g; 39.4 /
-40.4 g at 6 / 4 mm; docs/cases/adhikary.md, "The same study with edge elements"). That is
+40.4 g at 6 / 4 mm; docs/cases/adhikary.md, "The same study with edge elements"; measured
+before the half-open edge's shear was capped). That is
 about half the experiment's 80-85 g; the end-spring contacts UDEC uses gave 76 g at 6 mm and
 54 g at 4 mm, a block-size answer.
 """

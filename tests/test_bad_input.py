@@ -285,7 +285,7 @@ def test_a_key_given_twice_in_a_scene_file_is_refused_naming_it(tmp_path, old, n
     (["stages", 0, "g_level"], True, "stage 0 (gravity): g_level must be a number, got True"),
     (["geometry", "voronoi", "rock", "edge_seeding"], "yes",
      "geometry.voronoi['rock']: edge_seeding must be true or false, got 'yes'"),
-    (["solver", "edge_elements"], 1, "solver: edge_elements must be true or false, got 1"),
+    (["solver", "edge_elements"], 1, "solver: edge_elements must be true or false or null, got 1"),
     (["density"], True, "density (kg/m^3) must be finite and > 0, got True"),
 ])
 def test_a_string_or_number_where_a_bool_is_meant_and_back_is_refused(tmp_path, path, value,

@@ -65,7 +65,8 @@ def two_stacks(deformable):
     bs = from_polygons(polys, groups={"base": [0, 2], "far": [3]})
     m = Model(bs, {"flaw:*": Material(kn=1e9, ks=1e9, friction=20.0)}, density=2000,
               block_E=1e9, damping=0.0, dt=2e-5, new_contact_material="flaw:rock",
-              deformable={"far": 0.3} if deformable else None)
+              deformable={"far": 0.3} if deformable else None,
+              edge_elements=False)          # the contact model zones take
     m.fix("base")
     th = math.radians(30)
     m.set_gravity(1.0, direction=(math.sin(th), -math.cos(th)))
@@ -152,7 +153,8 @@ def test_a_stiff_deformable_block_rests_where_the_rigid_one_does():
                             [(0, 0), (1, 0), (1, 0.6), (0, 0.6)]], groups={"base": [0]})
         m = Model(bs, {"flaw:*": Material(kn=1e9, ks=5e8, friction=40.0)}, density=RHO,
                   block_E=1e12 if deformable else None, damping=0.8, mass_scaling=True,
-                  deformable={"*": 1.0} if deformable else None)   # 1 m: edges not split
+                  deformable={"*": 1.0} if deformable else None,   # 1 m: edges not split
+                  edge_elements=False)      # the contact model zones take
         m.fix("base")
         m.set_gravity(1.0, direction=(math.sin(math.radians(20)), -math.cos(math.radians(20))))
         m.cycle(3000)

@@ -22,7 +22,14 @@ G = 9.81
 
 @pytest.mark.parametrize("theta, friction", [(30.0, 20.0), (40.0, 10.0)])
 def test_block_slides_with_coulomb_acceleration(theta, friction):
+    # settled on its base first, as the closed form assumes: dropped with its full weight the
+    # block rocks, and on edge elements (a kern of b/6) its heel lifts (+0.23 % on a at
+    # 30 / 20 deg; settled +0.05 %)
     m = block_on_plane(friction)
+    m.set_options(damping=0.8)
+    tilt(m, 0.0)
+    m.cycle(2000)
+    m.set_options(damping=0.0)
     tilt(m, theta)
     m.cycle(1000)
     t1, v1 = m.time, m.state.vel[1, 0]

@@ -11,7 +11,7 @@ A tall block, b = 0.5 m wide and h = 1 m high, on a fixed base, undamped:
 
 The energy account of the heel-lifted block is a strict xfail on edge elements (2026-12-01):
 its law books friction at the closed end's own limit over half the edge (docs/history.md,
-"The half-open edge element made energy").
+"The half-open edge element made energy; edge elements the default").
 """
 import math
 import sys

@@ -412,5 +412,6 @@ def scene(p: CheckerboardParams, stages=None) -> Scene:
                                                         rotation=False)],
                  points=monitoring_points(p), stages=stages,
                  solver={"new_contact_material": "joint:vertical", "mass_scaling": True,
-                         "damping": 0.0, "kinetic_damping": 100},
+                         "damping": 0.0, "kinetic_damping": 100,
+                         "edge_elements": False},   # end springs: not yet rerun (comparisons.md)
                  name="checkerboard")

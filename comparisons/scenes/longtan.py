@@ -275,7 +275,8 @@ def scene(p: LongtanParams, stages=()) -> Scene:
     ``stages`` (e.g. one ``stages.RaiseGravity``)."""
     # (conventional mode: the materials themselves are glued, ``materials``)
     solver = {"new_contact_material": "joint:columns", "mass_scaling": True, "damping": 0.0,
-              "kinetic_damping": 100}
+              "kinetic_damping": 100,
+              "edge_elements": False}   # end springs: not yet rerun (docs/comparisons.md)
     return Scene(geometry(p), materials(p), density=DENSITY, block_E=p.block_E,
                  block_nu=p.block_nu, groups=CENTRIFUGE_GROUPS,
                  boundaries=CENTRIFUGE_BOUNDARIES, points=monitoring_points(), stages=list(stages),
