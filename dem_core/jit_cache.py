@@ -46,7 +46,8 @@ def compiled(kernel, args):
 
 @contextlib.contextmanager
 def lock():
-    """An exclusive lock on a file in the temporary folder, one per copy of ``dem_core`` (none
+    """An exclusive lock on a file in the temporary folder, one per copy of ``dem_core`` and
+    numba cache folder (none
     where ``fcntl`` is missing or the file cannot be opened: then each process compiles for
     itself, as without the lock)."""
     try:
@@ -63,8 +64,13 @@ def lock():
 
 
 def lock_path() -> Path:
-    """The lock's file: named by this copy of ``dem_core``'s folder (its own numba cache)."""
-    here = str(Path(__file__).resolve().parent).encode()
+    """The lock's file: named by this copy of ``dem_core``'s folder and the numba cache it
+    writes to (``NUMBA_CACHE_DIR``, if set): processes with caches of their own do not wait
+    for each other (a process loading from its own full cache once waited 230 s for another
+    that compiled into the default one, tests/test_same_bits.py)."""
+    import numba
+
+    here = f"{Path(__file__).resolve().parent}|{numba.config.CACHE_DIR or ''}".encode()
     return Path(tempfile.gettempdir()) / f"dem_core-jit-{hashlib.sha1(here).hexdigest()[:12]}.lock"
 
 

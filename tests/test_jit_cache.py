@@ -31,3 +31,14 @@ def test_another_process_cannot_take_the_lock_while_it_is_held():
     with lock():
         assert subprocess.run(run, capture_output=True, text=True).stdout.strip() == "held"
     assert subprocess.run(run, capture_output=True, text=True).stdout.strip() == "free"
+
+
+def test_a_process_with_its_own_numba_cache_has_its_own_lock(tmp_path):
+    # it loads and writes its own cache, so it must not wait for processes compiling into
+    # another (tests/test_same_bits.py's loading run once waited 230 s for one)
+    import os
+    probe = "from dem_core.jit_cache import lock_path; print(lock_path())"
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
+    other = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                           env=env).stdout.strip()
+    assert other and other != str(lock_path())
