@@ -62,7 +62,8 @@ class SolverOptions:
         every ``kinetic_damping`` steps (the rule before 2026-11-30).
     edge_elements : the two contacts of a shared edge act as one linear interface element
         (``contact.forces.edge_correction``): the exact bending of a bonded edge, the contact
-        model whose answers converge with block size (docs/mechanics.md, "One edge, one linear element").
+        model whose answers converge with block size (docs/mechanics.md, "One edge, one
+        linear element").
         None (the default): edge elements where every block is rigid, the end-spring pair
         where the scene has deformable blocks (edge elements are not built on zones yet);
         False: the end-spring pair everywhere (the default before 2026-12-01, three times
