@@ -19,8 +19,8 @@ closes comes in unstressed in shear: the closed end's shear stress is scaled by 
 (``Contacts.edge_x0``), so the edge's shear force does not grow with the contact (without it,
 t x0 / 2 at a constant t was a spring whose stiffness the rocking varies: an undamped block
 rocking on a plane gained energy until it toppled, docs/history.md); where x0 shrinks, the
-shear on the part that opens is let go. Once the two contacts have slid apart (their points no longer
-span the edge's length to 1 %) they are two point contacts again. ``Model(edge_elements=True)``
+shear on the part that opens is let go. Once the two contacts have slid apart (their points
+no longer span the edge's length to 1 %) they are two point contacts again. ``Model(edge_elements=True)``
 turns this on (pairs in ``Contacts.partner``); off, every contact is its own spring. The edge
 then turns under a moment M with the rotational stiffness kn L^3/12 and fails (an end reaches
 T) at M = T L^2/6, the elastic values; lumped end forces alone give kn L^3/4 and T L^2/2
