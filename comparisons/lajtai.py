@@ -56,7 +56,7 @@ VARIANTS = {
         persistence=[0.0, 0.5, 1.0], tensile=[0.5e6, 1.0e6], scale_edges=[],
         cohesion_sweep=[], accuracy_edges=[], accuracy_safety=[], continuum=True,
         continuum_h=0.01, continuum_normal_stresses=[0.3e6, 1.2e6, 2.4e6], workers=1,
-        zone_size=None),
+        zone_size=None, edge_elements=None),
     "full": dict(
         ucs_edge=0.007, shear_edge=0.007, ucs_rate=1.5e-7, shear_rate=2e-7,
         ucs_max_strain=0.03, shear_max_disp=0.004,
@@ -67,13 +67,15 @@ VARIANTS = {
         cohesion_sweep=[0.3e6, 0.6e6, 0.9e6, 1.5e6, 2.0e6, 2.4e6],
         accuracy_edges=[0.005, 0.006, 0.007, 0.009, 0.011, 0.014], accuracy_safety=[0.3, 0.9],
         continuum=True, continuum_h=0.008, continuum_normal_stresses=[0.3e6, 0.9e6, 1.5e6, 2.4e6],
-        workers=2, zone_size=None),
+        workers=2, zone_size=None, edge_elements=None),
 }
 # zone_size: None, rigid Voronoi blocks with their compliance in series with the contacts (the
 # default); a size (m), the specimen's blocks deformable (UDEC's, as the thesis's), meshed into
 # zones of that size (Model's ``deformable``). With 3.5 mm zones the calibration reaches the
 # thesis's 4.1 MPa at c = 0.75 MPa, which rigid blocks cannot (their floor is 4.4 MPa), at about
 # 20 times a rigid test's run time (benchmarks/trials/deformable_ucs.py, docs/comparisons.md).
+# edge_elements: None, the scenes' contacts (the end-spring pair of the thesis's UDEC); True, edge
+# elements on the rigid specimens (docs/cases/lajtai.md, "The UCS floor on edge elements").
 
 # thesis 3.6-3.8: flaws and joints at friction 30 for the persistence, T and scale studies
 STUDY_FRICTION = 30.0
@@ -166,10 +168,10 @@ def ucs_scene_of(q: dict):
     p = scene.FlawParams(edge_length=q["edge"], tensile=q["tensile"], cohesion=q["cohesion"],
                          friction=q["friction"], kn=q["kn"], ks=q["ks"], seed=q["seed"])
     width = q.get("width", scene.UCS_WIDTH)
-    return _deformable(scene.ucs_scene(p, width, 2.0 * width,
-                                       glued_platens=q.get("test") == "tension",
-                                       safety=q.get("safety", 0.5), rate=q["rate"],
-                                       max_strain=q["max_strain"]), q)
+    return _specimen_solver(scene.ucs_scene(p, width, 2.0 * width,
+                                            glued_platens=q.get("test") == "tension",
+                                            safety=q.get("safety", 0.5), rate=q["rate"],
+                                            max_strain=q["max_strain"]), q)
 
 
 def shear_member(q: dict) -> dict:
@@ -181,8 +183,9 @@ def shear_member(q: dict) -> dict:
                          friction=q["friction"], kn=q["kn"], ks=q["ks"], seed=q["seed"])
     s = scene.ShearParams(joints=q["joints"], k=q["k"], joint_friction=q["joint_friction"])
     t0 = time.perf_counter()
-    sc = _deformable(scene.shear_scene(p, s, safety=q.get("safety", 0.5), normal_stress=q["sn"],
-                                       rate=q["rate"], max_displacement=q["max_disp"]), q)
+    sc = _specimen_solver(scene.shear_scene(p, s, safety=q.get("safety", 0.5),
+                                            normal_stress=q["sn"], rate=q["rate"],
+                                            max_displacement=q["max_disp"]), q)
     m = build_model(sc)
     records = run_stages(m, sc.stages, progress=stage_reporter(m, len(sc.stages)))
     cv = lab.curve_of(records[-1], m, t0, 1.0, "across")
@@ -198,12 +201,15 @@ def shear_member(q: dict) -> dict:
     return out
 
 
-def _deformable(sc, q: dict):
-    """The scene with its specimen's blocks deformable when ``q["zone_size"]`` (m) is set."""
-    zone = q.get("zone_size")
-    if zone is None:
-        return sc
-    return dataclasses.replace(sc, solver={**sc.solver, "deformable": {"rock": zone}})
+def _specimen_solver(sc, q: dict):
+    """The scene with its specimen's blocks deformable when ``q["zone_size"]`` (m) is set, and
+    with the contact model ``q["edge_elements"]`` when it is not None (None: the scene's)."""
+    solver = dict(sc.solver)
+    if q.get("zone_size") is not None:
+        solver["deformable"] = {"rock": q["zone_size"]}
+    if q.get("edge_elements") is not None:
+        solver["edge_elements"] = q["edge_elements"]
+    return dataclasses.replace(sc, solver=solver)
 
 
 def _vtk(q: dict, name: str) -> dict:
@@ -224,7 +230,7 @@ def _flaw_params(cfg, **over):
     base = dict(edge=cfg["ucs_edge"], tensile=scene.THESIS_TENSILE,
                 cohesion=scene.THESIS_COHESION, friction=scene.THESIS_FRICTION,
                 kn=scene.THESIS_KN, ks=scene.THESIS_KS, seed=cfg["seed"],
-                zone_size=cfg["zone_size"])
+                zone_size=cfg["zone_size"], edge_elements=cfg["edge_elements"])
     base.update(over)
     return base
 
@@ -232,7 +238,8 @@ def _flaw_params(cfg, **over):
 # ---------------------------------------------------------------------------- the run
 def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
     """Run the case: ``variant`` is "quick", "full" or a settings mapping (``VARIANTS`` keys)."""
-    variant, cfg = pick_variant("lajtai", VARIANTS, variant, optional={"zone_size": None})
+    variant, cfg = pick_variant("lajtai", VARIANTS, variant,
+                                optional={"zone_size": None, "edge_elements": None})
     cfg["seed"] = seed
     say = progress or (lambda msg: None)
     res = CaseResult(case="lajtai", variant=variant, seed=seed)

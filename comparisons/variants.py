@@ -41,8 +41,9 @@ def pick_variant(case: str, variants: dict, variant, optional=None) -> tuple:
 def _checked(case: str, settings: dict) -> dict:
     """``settings``, its ``solver`` (if any) checked against the Model options a scene takes
     (``dem_core.workflow.scene.SOLVER_KEYS``, each value of its option's kind), its
-    ``settle`` (if any) a bool and its ``judge`` (if any) one of ``SolveSettings``'s judges: a
-    bad one is named before any run starts."""
+    ``settle`` (if any) a bool, its ``edge_elements`` (if any) a bool or None and its
+    ``judge`` (if any) one of ``SolveSettings``'s judges: a bad one is named before any run
+    starts."""
     from dem_core.geometry.regions import check_fields, check_keys
     from dem_core.settings import JUDGES, SolverOptions
     from dem_core.workflow.scene import SOLVER_KEYS
@@ -54,6 +55,10 @@ def _checked(case: str, settings: dict) -> dict:
     check_fields(solver, SolverOptions, f"{case}: solver", partial=True)
     if not isinstance(settings.get("settle", False), bool):
         raise ValueError(f"{case}: settle must be true or false, got {settings['settle']!r}")
+    edges = settings.get("edge_elements")
+    if edges is not None and not isinstance(edges, bool):
+        raise ValueError(f"{case}: edge_elements must be true, false or null, got "
+                         f"{settings['edge_elements']!r}")
     if settings.get("judge", "budget") not in JUDGES:
         raise ValueError(f"{case}: judge must be one of {JUDGES}, got {settings['judge']!r}")
     return settings

@@ -43,3 +43,24 @@ def test_a_settle_setting_that_is_not_a_bool_is_named_before_any_run():
     with pytest.raises(ValueError, match="settle must be true or false, got 'yes'"):
         pick_variant("case", {"quick": dict(edge=0.01, settle=False)}, dict(edge=0.02,
                                                                           settle="yes"))
+
+
+@pytest.mark.parametrize("value", [1, "yes"])
+def test_an_edge_elements_setting_that_is_not_a_bool_or_null_is_named_before_any_run(value):
+    with pytest.raises(ValueError, match=f"edge_elements must be true, false or null, got "
+                                         f"{value!r}"):
+        pick_variant("case", {"quick": dict(edge=0.01, edge_elements=None)},
+                     dict(edge=0.02, edge_elements=value))
+
+
+def test_the_lajtai_setting_edge_elements_reaches_the_specimens_contacts():
+    """None keeps the scenes' end springs (the thesis's UDEC contacts); True gives edge
+    elements, on the compression and the shear specimen alike."""
+    from comparisons import lajtai
+    _, cfg = pick_variant("lajtai", lajtai.VARIANTS, "quick")
+    cfg["seed"] = 1
+    q = lajtai.ucs_query(cfg, 1.2e6)
+    assert lajtai.ucs_scene_of(q).solver["edge_elements"] is False
+    assert lajtai.ucs_scene_of({**q, "edge_elements": True}).solver["edge_elements"] is True
+    zoned = lajtai.ucs_scene_of({**q, "zone_size": 0.007}).solver
+    assert zoned["edge_elements"] is False and zoned["deformable"] == {"rock": 0.007}

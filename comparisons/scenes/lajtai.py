@@ -204,9 +204,11 @@ def stiffness_for_edge(p: FlawParams, edge: float) -> FlawParams:
 
 def _solver(safety=0.5) -> dict:
     """Solver options shared by the lab scenes: quasi-static (mass scaling, local damping 0.8);
-    the blocks are deformable in series with the contacts (the scenes' block_E, block_nu)."""
-    return dict(mass_scaling=True, damping=0.8, safety=safety,
-                edge_elements=False)   # end springs: not yet rerun (docs/comparisons.md)
+    the blocks are deformable in series with the contacts (the scenes' block_E, block_nu). The
+    contacts are the end-spring pair of the thesis's UDEC: on edge elements the rigid specimen's
+    peak at low flaw cohesion is not quasi-static (docs/cases/lajtai.md, "The UCS floor on edge
+    elements")."""
+    return dict(mass_scaling=True, damping=0.8, safety=safety, edge_elements=False)
 
 
 def ucs_scene(p: FlawParams, width=UCS_WIDTH, height=UCS_HEIGHT, glued_platens=False,
