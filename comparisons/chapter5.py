@@ -67,15 +67,16 @@ def variant_stages(flaws: str, v: dict, watch, failure_displacement: float,
                            post_failure_steps=v["post_failure_steps"])
 
 
-def run_schedule(sc, member: dict, locate) -> tuple:
+def run_schedule(sc, member: dict, locate, read=None) -> tuple:
     """Run scene ``sc`` (stages from ``schedule_stages``) as a sweep member
-    (``staged.stage_run``, with the blocks' poses after each stage) and, if a search failed,
-    ``locate(run)`` (the case's reading of the mechanism, from ``moving_blocks``). Returns
-    (run without the poses, the mechanism or None)."""
+    (``staged.stage_run``, with the blocks' poses after each stage, and ``read``'s results
+    after each stage as its ``reads``) and, if a search failed, ``locate(run)`` (the case's
+    reading of the mechanism, from ``moving_blocks``). Returns (run without the poses, the
+    mechanism or None)."""
     from comparisons import staged
 
     # on after a failed schedule: the cohesion schedule and the post-failure steps belong to it
-    run = staged.stage_run(sc, member, poses=True, stop_on_failure=False)
+    run = staged.stage_run(sc, member, poses=True, stop_on_failure=False, read=read)
     failed = any(s["failure"] is not None for s in run["searches"])
     mechanism = locate(run) if failed else None
     del run["poses"]                   # used up: keep the member's result small

@@ -13,6 +13,13 @@ Methods:
 - ``continuum``: ``continuum_ref`` strength reduction: the layer an equivalent Mohr-Coulomb
   mass, the footwall and floor rock elastic (``equivalent_rock_mass``).
 
+Thrust line (``thrust``): after each stage the layer is cut across every 2.5 m along the face
+and the force its down-dip part exerts on its up-dip part is read from the contacts
+(``dem_core.output.sections.thrust_line``): the thrust N, the shear V and where the thrust
+crosses the cut (e / t from mid-layer). A masonry layer stands while that line stays inside
+its section; against it, the thrust a free slab on its basal plane hands to the toe
+(``free_slab_thrust``).
+
 Buckle (``buckle``): after the first failed level the model runs ``post_failure_steps`` more
 steps; the layer blocks that moved in them by more than ``FRACTION`` of the largest block's
 motion are the failing part (``chapter5.moving_blocks``); the buckle is where the layer moved
@@ -79,10 +86,48 @@ def stages(p: scene.CoalBucklingParams, v: dict) -> list:
 def run_member(member: dict) -> dict:
     """One run of the stage list (a sweep member: plain dict in, plain dict out)."""
     p = scene.CoalBucklingParams(**member["params"])
+    stations = thrust_stations(p)
     run, mechanism = chapter5.run_schedule(scene.scene(p, stages(p, member["v"])), member,
-                                           lambda r: buckle(p, r))
+                                           lambda r: buckle(p, r),
+                                           read=lambda m: thrust(p, m, stations))
     run["buckle"] = mechanism
+    reads = run.pop("reads")
+    after = [i for i, st in enumerate(run["stages"]) if st["kind"] == "solve"]
+    run["thrust"] = {"stations_m": stations.tolist(),
+                     "free_slab_N": free_slab_thrust(p, stations).tolist(),
+                     "after_gravity": reads[after[0]] if after else None,
+                     "end": reads[-1]}
     return run
+
+
+def thrust_stations(p: scene.CoalBucklingParams) -> np.ndarray:
+    """Stations s (m) along the face from the toe (- below the pit floor), every 2.5 m from
+    about 5 m above the buried layer's end at the model's base to 2.5 m below the crest."""
+    length = scene.HEIGHT / np.sin(np.radians(scene.FACE_DIP))
+    below = p.floor_depth / np.sin(np.radians(scene.FACE_DIP))
+    return np.arange(-2.5 * np.floor((below - 5.0) / 2.5), length - 2.0, 2.5)
+
+
+def thrust(p: scene.CoalBucklingParams, model, stations) -> dict:
+    """The layer's thrust line at ``stations`` (module docstring), lists of N, V (N/m),
+    e / t and the contacts crossing each cut."""
+    from dem_core.output.sections import thrust_line
+
+    (tx, ty), (cx, cy) = scene.face(p)
+    layer = np.asarray(model.blocks.region_id) == model.blocks.region_names.index("layer")
+    return thrust_line(model, layer, (tx, ty), (cx - tx, cy - ty), scene.outward_normal(),
+                       p.layer_thickness, stations)
+
+
+def free_slab_thrust(p: scene.CoalBucklingParams, stations, g=9.81) -> np.ndarray:
+    """N/m: the thrust a free slab up-dip of station s hands on when its basal plane is at
+    its friction limit, gamma t (L - s)(sin beta - cos beta tan phi_b), L the face's length,
+    beta the face's dip, phi_b the basal friction (limit equilibrium of a slab on a plane)."""
+    beta, phi = np.radians(scene.FACE_DIP), np.radians(p.basal_friction)
+    length = scene.HEIGHT / np.sin(beta)
+    return p.density * g * p.layer_thickness * np.clip(length - np.asarray(stations), 0.0,
+                                                       None) \
+        * (np.sin(beta) - np.cos(beta) * np.tan(phi))
 
 
 def buckle(p: scene.CoalBucklingParams, run: dict) -> dict | None:
@@ -150,6 +195,11 @@ def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
     b = runs[0]["buckle"]
     result.add_error("dem buckle height (fraction of H) vs thesis lower third",
                      None if b is None else b["height_fraction"], [0.0, 1.0 / 3.0])
+    toe_n, slab_n, e_max = thrust_at_toe(runs[0]["thrust"])
+    result.add_error("dem thrust at the toe, end of the run (MN/m) vs free slab on its base",
+                     toe_n / 1e6, slab_n / 1e6)
+    result.add_error("dem thrust line on the exposed layer, largest |e| / t vs the kern",
+                     e_max, [0.0, 1.0 / 6.0])
     if "conventional" in result.methods:
         result.add_error("conventional T at failure (kPa) vs thesis DM",
                          result.methods["conventional"]["T_failure_kPa"], 10.0, "conventional")
@@ -165,6 +215,10 @@ def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
         staged.judge_note(v["judge"], f"still moving (> {CREEP} m over the last fifth, not "
                           f"slowing) after {v['max_steps']} steps", FAILURE_DISPLACEMENT,
                           f"a watched point ({', '.join(WATCH)})"),
+        "Thrust line: the layer cut across every 2.5 m (dem_core.output.sections); the free "
+        "slab's thrust is what its basal plane at its friction limit hands to the toe "
+        "(limit equilibrium). A layer whose thrust stays inside its kern needs no tensile "
+        "strength or cohesion to stand (docs/cases/coal_buckling.md).",
         "The layer runs on below the pit floor (buttressed by the floor rock); dimensions "
         "beyond height, angle and thickness, density and block modulus are assumptions "
         "(comparisons/scenes/coal_buckling.py).",
@@ -183,8 +237,58 @@ def _entry(r) -> dict:
             "c_last_stable_kPa": None if c is None else kpa(c["last_stable"]),
             "c_failure_kPa": None if c is None else kpa(c["failure"]),
             "buckle": r["buckle"], "blocks": r["blocks"], "cracks": r["cracks"],
+            "thrust": r["thrust"],
             "stages": [(s["kind"], s["verdict"], s["steps"]) for s in r["stages"]],
             "runtime_s": r["runtime_s"]}
+
+
+def thrust_at_toe(th: dict) -> tuple:
+    """(N at the toe at the end of the run, the free slab's there, N/m; the largest |e| / t
+    of the thrust line on the exposed layer, s >= 0) of a run's ``thrust``."""
+    s = np.asarray(th["stations_m"])
+    end = th["end"]
+    e = np.abs(np.asarray(end["e_over_t"], float))[s >= 0]
+    return (float(np.interp(0.0, s, end["N"])), float(np.interp(0.0, s, th["free_slab_N"])),
+            float(np.nanmax(e)))
+
+
+def thrust_figure(run: dict, p: scene.CoalBucklingParams):
+    """Thrust N along the layer (DEM after gravity and at the end, and the free slab's) and
+    the thrust line e / t against the section and its kern."""
+    import matplotlib.pyplot as plt
+
+    th = run["thrust"]
+    s = np.asarray(th["stations_m"])
+    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(8, 7), sharex=True)
+    ax1.plot(s, np.asarray(th["free_slab_N"]) / 1e6, "k--",
+             label=f"free slab on its basal plane at friction {p.basal_friction:g} deg "
+                   f"(limit equilibrium)")
+    states = (("after_gravity", "gravity, table 5.4's strengths", "C0-"),
+              ("end", "end: T = 0, then c = 0", "C3-"))
+    for key, label, style in states:
+        if th.get(key):
+            ax1.plot(s, np.asarray(th[key]["N"]) / 1e6, style, label=f"DEM, {label}")
+            ax2.plot(s, th[key]["e_over_t"], style, label=f"DEM, {label}")
+    ax1.set_ylabel("thrust N along the layer (MN/m)")
+    ax1.legend(fontsize=8)
+    for y, text in ((0.5, "face"), (-0.5, "basal plane")):
+        ax2.axhline(y, color="k", lw=1)
+        ax2.text(s[-1], y, text, ha="right", va="bottom" if y > 0 else "top", fontsize=8)
+    for y in (1 / 6, -1 / 6):
+        ax2.axhline(y, color="0.6", lw=0.8, ls=":")
+    ax2.text(s[0], 1 / 6, "kern (t/6)", fontsize=8, va="bottom", color="0.4")
+    ax2.set_ylim(-0.7, 0.7)
+    ax2.set_ylabel("thrust line e / t (from mid-layer)")
+    ax2.set_xlabel("distance s along the face from the toe (m; < 0: below the pit floor)")
+    for ax in (ax1, ax2):
+        ax.axvline(0.0, color="0.5", lw=0.8)
+        ax.grid(alpha=0.3)
+    ax2.text(0.5, -0.62, "toe (pit floor)", fontsize=8, color="0.4")
+    ax2.legend(fontsize=8, loc="lower left")
+    fig.suptitle(f"coal footwall layer, {p.layer_thickness:g} m thick, {p.edge_length:g} m "
+                 f"cells: where the thrust runs")
+    fig.tight_layout()
+    return fig
 
 
 def _curves_and_figures(result, runs):
@@ -208,3 +312,5 @@ def _curves_and_figures(result, runs):
         "" if b is None else f"; largest outward movement at {b['height_fraction']:.2f} H "
         f"above the toe"))
     result.figures["blocks_at_failure"] = centrifuge.cracks_figure(scene, base, None, title)
+    result.figures["thrust_line"] = thrust_figure(base, scene.CoalBucklingParams(
+        **base["params"]))

@@ -63,7 +63,7 @@ _PLANS = ("values", "f_levels", "g_levels")
 
 
 def stage_run(sc, member: dict, crack_materials=INTACT, stop_on_failure=None,
-              poses=False, **model_options) -> dict:
+              poses=False, read=None, **model_options) -> dict:
     """Build the DEM model of scene ``sc`` and run its stages (module docstring). ``member``:
     the sweep member (``label``, ``params``; ``threads`` optional, capped at numba's;
     ``solver`` optional: Model options over the scene's, e.g. ``{"step_estimate": "eigen"}``,
@@ -80,12 +80,14 @@ def stage_run(sc, member: dict, crack_materials=INTACT, stop_on_failure=None,
     model = build_model(sc, **{"threads": threads, **member.get("solver", {}), **model_options})
     critical_dt = float(model.critical_dt)     # of the built model, before any stage
     check_stages(sc.stages, set(model.blocks.groups), model.materials)
-    n, finished, pose_log = len(sc.stages), [], []
+    n, finished, pose_log, reads = len(sc.stages), [], [], []
 
     def on_stage(message):          # after each stage
         finished.append(message)
         if poses:
             pose_log.append((model.state.pos.copy(), model.state.theta.copy()))
+        if read is not None:
+            reads.append(read(model))
         report(f"{message} ({len(finished)}/{n} stages)", 0, elapsed=time.perf_counter() - t0)
 
     def on_level(i, stage, m, rec):  # after each level of a search stage
@@ -122,6 +124,7 @@ def stage_run(sc, member: dict, crack_materials=INTACT, stop_on_failure=None,
         "runtime_s": time.perf_counter() - t0,
         "measure_steps": int(getattr(model, "measured_steps", 0)),
         **({"poses": pose_log} if poses else {}),
+        **({"reads": reads} if read is not None else {}),
         **({"point_history": point_history(model)} if member.get("point_history") else {}),
     }
 
