@@ -181,7 +181,7 @@ def contact_model_note(solver: dict) -> str:
     the eigen step, unless ``solver`` names another)."""
     if solver.get("edge_elements", scene.SOLVER["edge_elements"]):
         return ("Contact model: every shared edge a linear element (edge elements), whose "
-                "failure g converges with block size: 39.4 / 40.4 / 38.1 g at 6 / 4 / 3 mm "
+                "failure g converges with block size: 39.4 / 39.1 / 37.9 g at 6 / 4 / 3 mm "
                 "(T = 1.1 MPa; docs/cases/adhikary.md). The converged damage model fails at "
                 "about half the experiment's 80-85 g and about 0.55 of the thesis's UDEC-DM "
                 "70 g; the end-spring pair UDEC uses (solver {\"edge_elements\": false}) gave "

@@ -157,7 +157,7 @@ def scene(p: AdhikaryParams, stages=()) -> Scene:
 
     The contact model is the one whose failure g converges with block size: every shared edge
     a linear element (``edge_elements``: a bonded edge's bending stiffness and strength do not
-    depend on the block size; 39.4 / 40.4 / 38.1 g at 6 / 4 / 3 mm, docs/cases/adhikary.md)
+    depend on the block size; 39.4 / 39.1 / 37.9 g at 6 / 4 / 3 mm, docs/cases/adhikary.md)
     on the step from the largest eigenvalue (``step_estimate="eigen"``). The end-spring pair
     UDEC uses, 3.8 times too strong in bending at 6 mm (benchmarks/column_bending.py), is
     ``{"edge_elements": False, "step_estimate": "bound"}`` over this solver."""
