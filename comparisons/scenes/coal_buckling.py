@@ -192,8 +192,9 @@ def scene(p: CoalBucklingParams, stages=()) -> Scene:
     """The scene as data: geometry, materials, the slope boundaries, the points, a
     quasi-static solver (local damping 0.8, mass scaling; comparisons/chapter5.py says why)
     and ``stages``."""
-    solver = {"new_contact_material": BASAL, "mass_scaling": True, "damping": 0.8,
-              "edge_elements": False}   # end springs: not yet rerun (docs/comparisons.md)
+    # the library's contact model: edge elements on the rigid blocks (2026-12-01; end
+    # springs before: solver {"edge_elements": false}, docs/comparisons.md)
+    solver = {"new_contact_material": BASAL, "mass_scaling": True, "damping": 0.8}
     return Scene(geometry(p), materials(p), density=p.density, block_E=p.block_E,
                  block_nu=p.block_nu, groups=CENTRIFUGE_GROUPS,
                  boundaries=CENTRIFUGE_BOUNDARIES, points=monitoring_points(p),

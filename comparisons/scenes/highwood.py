@@ -311,8 +311,9 @@ def stages(p: HighwoodParams, values, refine_to=None, max_steps=20_000, ratio=1e
 def scene(p: HighwoodParams, stage_list=()) -> Scene:
     """The scene as data: geometry, materials, fixed base and rollers, points A, M, B, local
     damping 0.8 with mass scaling (quasi-static, as UDEC's default), and ``stage_list``."""
-    solver = {"new_contact_material": "joint:bedding", "mass_scaling": True, "damping": 0.8,
-              "edge_elements": False}   # end springs: not yet rerun (docs/comparisons.md)
+    # the library's contact model: edge elements on the rigid blocks (2026-12-01; end
+    # springs before: solver {"edge_elements": false}, docs/comparisons.md)
+    solver = {"new_contact_material": "joint:bedding", "mass_scaling": True, "damping": 0.8}
     return Scene(geometry(p), materials(p), density=DENSITY, block_E=p.block_E,
                  block_nu=p.block_nu, groups=GROUPS, boundaries=BOUNDARIES,
                  points=monitoring_points(p), stages=list(stage_list), solver=solver,
