@@ -45,7 +45,7 @@ from comparisons.scenes import checkerboard as scene
 from comparisons.sweep import run_sweep
 from comparisons.variants import STAGED_OPTIONAL, pick_variant
 from dem_core.workflow.loading import Displace
-from dem_core.workflow.stages import Solve
+from dem_core.workflow.stages import STOPS, Solve
 from dem_core.workflow.strength import StrengthSchedule
 from dem_core.components.support import Cable, Liner
 
@@ -220,7 +220,8 @@ def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
     if v["conventional"]:
         conv = by_label["conventional"]
         result.methods["conventional"] = {
-            "ucs_MPa": conv["ucs"] / MPA, "t_failure_MPa": _mpa(conv["search"]["failure"]),
+            "ucs_MPa": conv["ucs"] / MPA, "t_failure_MPa": _t_failure(conv)[1],
+            "failed_before_schedule": failed_before_schedule(conv),
             "cracks": conv["cracks"], "runtime_s": conv["runtime_s"]}
     if v["continuum"]:
         from comparisons.checkerboard_continuum import run_continuum
@@ -251,19 +252,28 @@ def _cracks_before_search(run) -> int:
 def _back_analysis(result, back):
     rows = []
     for r in back:
-        stable, failed = staged.value_at_failure(r)
+        stable, failed = _t_failure(r)
         hb_t = scene.flaw_strength("weathered_gneiss", r["ucs"])[2]
         c, phi, _ = scene.flaw_strength("weathered_gneiss", r["ucs"])
         rows.append({"ucs_MPa": r["ucs"] / MPA, "c_MPa": c / MPA, "friction": phi,
-                     "hoek_brown_t_kPa": hb_t / 1e3, "t_failure_MPa": _mpa(failed),
-                     "t_last_stable_MPa": _mpa(stable), "cracks": r["cracks"],
+                     "hoek_brown_t_kPa": hb_t / 1e3, "t_failure_MPa": failed,
+                     "t_last_stable_MPa": stable, "cracks": r["cracks"],
+                     "failed_before_schedule": failed_before_schedule(r),
                      "rupture": r["rupture"], "cracks_before_search": _cracks_before_search(r),
                      "contacts": r["contacts"],
                      "blocks": r["blocks"], "runtime_s": r["runtime_s"]})
         ref = REFERENCE["t_at_failure_MPa"].get(int(round(r["ucs"] / MPA)))
         if ref is not None:
-            result.add_error(f"T at failure, UCS {r['ucs'] / MPA:g} MPa", _mpa(failed), ref)
+            result.add_error(f"T at failure, UCS {r['ucs'] / MPA:g} MPa", failed, ref)
     for w in rows:
+        early = w["failed_before_schedule"]
+        if early is not None:
+            result.notes.append(
+                f"UCS {w['ucs_MPa']:g} MPa: failed before T was lowered (stage {early['stage']}, "
+                f"{early['kind']}: {early['verdict']}), at the real strengths (T = c = "
+                f"{w['t_failure_MPa']:.3g} MPa): its T at failure is that T, not a "
+                "back-analysis.")
+            continue
         if w["cracks_before_search"] > BROKEN_BEFORE * w["contacts"]:
             result.notes.append(
                 f"UCS {w['ucs_MPa']:g} MPa: {w['cracks_before_search']} bonds "
@@ -280,23 +290,69 @@ def _back_analysis(result, back):
           w["hoek_brown_t_kPa"] / 1e3] for w in rows])
 
 
+def failed_before_schedule(run) -> dict | None:
+    """The stage that stopped a run before its T schedule ran ({"stage", "kind", "verdict"}),
+    or None when the schedule ran. The run then failed at its real strengths: its T at
+    failure is the weathered gneiss flaws' T it started with (``start_t_mpa``), never
+    "stands"."""
+    if run.get("search") is not None:
+        return None
+    i, st = next((i, st) for i, st in enumerate(run["stages"]) if st["verdict"] in STOPS)
+    return {"stage": i, "kind": st["kind"], "verdict": st["verdict"]}
+
+
+def start_t_mpa(run) -> float:
+    """The weathered gneiss flaws' T (MPa) at the real strengths, before the schedule."""
+    p = scene.CheckerboardParams(**run["params"])
+    return scene.flaw_material(p, "weathered_gneiss").tensile_strength / MPA
+
+
+def _t_failure(run):
+    """(last stable, first failed) T of a run, MPa: its schedule's, or (None, the T it
+    started with) when a stage before the schedule failed."""
+    if failed_before_schedule(run) is not None:
+        return None, start_t_mpa(run)
+    stable, failed = staged.value_at_failure(run)
+    return _mpa(stable), _mpa(failed)
+
+
 def _support(result, sup, uns):
+    """The support pair's T at failure, levels and movement (``_t_failure``: a run stopped
+    before its schedule failed at the T it started with, never booked as standing)."""
     out = {}
     for name, r in (("supported", sup), ("unsupported", uns)):
-        out[name] = {"t_failure_MPa": _mpa(r["search"]["failure"]),
-                     "levels_MPa": [x / MPA for x in r["search"]["level"]],
-                     "verdicts": r["search"]["verdict"],
+        s = r["search"]
+        out[name] = {"t_failure_MPa": _t_failure(r)[1],
+                     "failed_before_schedule": failed_before_schedule(r),
+                     "levels_MPa": [] if s is None else [x / MPA for x in s["level"]],
+                     "verdicts": [] if s is None else s["verdict"],
                      "crest_displacement_m": weakening_displacement(r, "crest"),
                      "face_displacement_m": weakening_displacement(r, "face"),
                      "cracks": r["cracks"], "runtime_s": r["runtime_s"]}
     result.methods["dem"]["support"] = out
+    for name, o in out.items():
+        if o["failed_before_schedule"] is not None:
+            e = o["failed_before_schedule"]
+            result.notes.append(f"Support pair, {name}: failed before T was lowered (stage "
+                                f"{e['stage']}, {e['kind']}: {e['verdict']}), at T = "
+                                f"{o['t_failure_MPa']:g} MPa.")
     result.methods["dem"]["runtime_s"] += sup["runtime_s"] + uns["runtime_s"]
 
 
 def _weathering(result, r):
     """The displacement boundary's record: each point's displacement while the skin was moved
-    and after it was freed (m), and the cracks through intact rock."""
-    i = next(k for k, s in enumerate(r["stages"]) if s["kind"] == "displace")
+    and after it was freed (m), and the cracks through intact rock; a run that failed before
+    the skin was moved records only where it stopped (``failed_before_displacement``)."""
+    i = next((k for k, s in enumerate(r["stages"]) if s["kind"] == "displace"), None)
+    if i is None:
+        k, st = next((k, st) for k, st in enumerate(r["stages"]) if st["verdict"] in STOPS)
+        result.methods["dem"]["weathering"] = {
+            "displace_verdict": None, "final_verdict": st["verdict"],
+            "failed_before_displacement": {"stage": k, "kind": st["kind"],
+                                           "verdict": st["verdict"]},
+            "cracks": r["cracks"], "runtime_s": r["runtime_s"]}
+        result.methods["dem"]["runtime_s"] += r["runtime_s"]
+        return
     before, moved, after = (np.asarray(list(r["stages"][k]["points"].values()), float)
                             for k in (i - 1, i, len(r["stages"]) - 1))
     names = list(r["stages"][i]["points"])

@@ -413,5 +413,7 @@ def scene(p: CheckerboardParams, stages=None) -> Scene:
                  points=monitoring_points(p), stages=stages,
                  solver={"new_contact_material": "joint:vertical", "mass_scaling": True,
                          "damping": 0.0, "kinetic_damping": 100,
-                         "edge_elements": False},   # end springs: not yet rerun (comparisons.md)
+                         # end springs, kept: on edge elements the quick section fails at
+                         # the weathered strengths themselves (docs/cases/checkerboard.md)
+                         "edge_elements": False},
                  name="checkerboard")
