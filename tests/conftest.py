@@ -43,7 +43,7 @@ NEVER_STEPS = ["test_continuum_ssr.py",                # 140 s (Davis and associ
                "test_continuum_hoek_brown.py",
                "test_continuum_footing.py"]
 LONGEST = ["test_adhikary_quick.py",                   # 518
-           "test_common_toppling_quick.py",            # 211
+           "test_common_toppling_quick.py",            # 304 (edge elements)
            "test_lornex_quick.py",                     # 125
            "test_examples.py",                         # 102 (the README's slope)
            "test_same_bits.py",                        # 93

@@ -280,7 +280,8 @@ def test_joint_slip_that_settles_over_many_response_times_is_not_a_mechanism():
     with 320,000 steps it reaches a ratio of 1e-5 at 68,600 steps, the crest 0.18 m out
     (benchmarks/trials/long_budget_check.py). Over equal windows of N_r the response judge
     called it "failing" at window 10 (1 cm a window, not slowing by a fifth); the growing
-    windows see it come to rest, at the same step with 1x and 2x the cap."""
+    windows see it come to rest, at the same step with 1x and 2x the cap. (Measured on end
+    springs; the scene's edge elements since 2026-12-01 come to rest too.)"""
     from comparisons import common_toppling as case
     from comparisons.cli import custom_variant
     from comparisons.scenes import common_toppling as scene
