@@ -274,9 +274,10 @@ def scene(p: LongtanParams, stages=()) -> Scene:
     points A and B, the quasi-static g-ramp solver (kinetic damping, mass scaling) and
     ``stages`` (e.g. one ``stages.RaiseGravity``)."""
     # (conventional mode: the materials themselves are glued, ``materials``)
+    # the library's contact model: edge elements on the rigid blocks (2026-12-01; end springs
+    # before: solver {"edge_elements": false}, docs/comparisons.md)
     solver = {"new_contact_material": "joint:columns", "mass_scaling": True, "damping": 0.0,
-              "kinetic_damping": 100,
-              "edge_elements": False}   # end springs: not yet rerun (docs/comparisons.md)
+              "kinetic_damping": 100}
     return Scene(geometry(p), materials(p), density=DENSITY, block_E=p.block_E,
                  block_nu=p.block_nu, groups=CENTRIFUGE_GROUPS,
                  boundaries=CENTRIFUGE_BOUNDARIES, points=monitoring_points(), stages=list(stages),
