@@ -131,7 +131,7 @@ def height_stages(p: scene.ToppleParams, v: dict) -> list:
     return out
 
 
-def critical_height(run: dict) -> tuple:
+def critical_height(run: dict, slope: float = scene.SLOPE_HEIGHT) -> tuple:
     """(Hc m, verdict): the slope height after the first lift whose solve did not stand
     (``stages.STOPS``: "failed", "failing", "undecided" or "unstable"), and that verdict; (None, None) if every lift
     stood."""
@@ -139,7 +139,7 @@ def critical_height(run: dict) -> tuple:
     for s in run["stages"]:
         lifts += s["kind"] == "excavate"
         if s["kind"] == "solve" and s["verdict"] in STOPS:
-            return (scene.height_after(lifts) if lifts else 0.0), s["verdict"]
+            return (scene.height_after(lifts, slope) if lifts else 0.0), s["verdict"]
     return None, None
 
 
@@ -151,7 +151,7 @@ def run_member(member: dict) -> dict:
     else:
         run = stage_run(scene.scene(p, height_stages(p, member["v"])), member,
                         stop_on_failure=True)
-        run["hc"], run["hc_verdict"] = critical_height(run)
+        run["hc"], run["hc_verdict"] = critical_height(run, p.slope_height)
     run["rupture"] = find_rupture(run, p)
     return run
 
@@ -165,7 +165,7 @@ def has_rupture(run: dict, height: float) -> bool:
 def find_rupture(run: dict, p: scene.ToppleParams) -> dict | None:
     """The rupture surface of a run's cracks (module docstring): it must reach the lower half
     of the face the slope had when it failed (the final face, or the face at Hc)."""
-    face = scene.face_at(run.get("hc") or scene.SLOPE_HEIGHT)
+    face = scene.face_at(run.get("hc") or p.slope_height, p.slope_height)
     link = RUPTURE_LINK * max(p.edge_length, p.spacing)
     return centrifuge.rupture(run, link, centrifuge.lower_part_of_face(face, 0.5),
                               scene.JOINT_DIP, face, "left")

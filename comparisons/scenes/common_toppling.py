@@ -11,7 +11,9 @@ face, 12 excavation blocks that raise the slope, and a 40 m scale bar in fig 5.8
   that interlayer slip needs: face dip > (90 - 80) + 30, Goodman & Bray 1976), on a
   ``BASE`` = 30 m thick base, ``CREST_LENGTH`` = 80 m of ground behind the crest and a
   ``TOE_LENGTH`` = 40 m toe bench (a 189 m x 150 m model: the slope is three 40 m scale bars
-  high, as fig 5.8 suggests);
+  high, as fig 5.8 suggests); ``ToppleParams.slope_height`` changes the height for a
+  sensitivity run (the crest stays, the toe, lifts and points follow;
+  benchmarks/trials/common_toppling_height.py);
 - the ground before excavation is flat at the crest level; the 12 excavation blocks of fig
   5.6 are the 10 m lifts (``LIFT``) of rock in front of the final face, numbered from the top
   (``lift1`` .. ``lift12``), so after k lifts the slope is 10 k m high with the final face's
@@ -87,6 +89,7 @@ class ToppleParams:
     edge_length: float = 1.0                 # Voronoi flaw edge, m
     zone_depth: float = 30.0                 # zone of flaws, normal to the face, m
     back_edge: float = 6.0                   # glued cells behind it (columns bend), m
+    slope_height: float = SLOPE_HEIGHT       # final slope, m (fig 5.6's is not given)
     relax_iterations: int = 20
     seed: int = 1
     flaw_friction: float = 30.0
@@ -102,8 +105,8 @@ class ToppleParams:
     conventional: bool = False
 
     def __post_init__(self):
-        for name in ("spacing", "edge_length", "zone_depth", "back_edge", "flaw_kn", "flaw_ks",
-                     "joint_kn", "joint_ks", "block_E"):
+        for name in ("spacing", "edge_length", "zone_depth", "back_edge", "slope_height",
+                     "flaw_kn", "flaw_ks", "joint_kn", "joint_ks", "block_E"):
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
                 raise ValueError(f"{name} must be a finite number > 0, got {v!r}")
@@ -137,66 +140,76 @@ class ToppleParams:
 _FIELD = {"flaw_cohesion": "cohesion", "flaw_tensile_strength": "tensile_strength"}
 
 
-def slope_region() -> Region:
+# Every function of the section below takes ``slope`` (m), the final slope's height: the
+# scene's ``ToppleParams.slope_height``, ``SLOPE_HEIGHT`` unless a sensitivity run changes it.
+# The crest stays at x = CREST_LENGTH; the toe, the width and the top move with it.
+
+def slope_region(slope: float = SLOPE_HEIGHT) -> Region:
     """The final slope as one Region (what the continuum meshes, without the lifts)."""
-    return slope_profile(SLOPE_HEIGHT, FACE_DIP, CREST_LENGTH, TOE_LENGTH, BASE, name="rock")
+    return slope_profile(slope, FACE_DIP, CREST_LENGTH, TOE_LENGTH, BASE, name="rock")
 
 
-def profile() -> list:
+def profile(slope: float = SLOPE_HEIGHT) -> list:
     """The final slope section (m), counter-clockwise from the bottom-left corner."""
-    return [tuple(map(float, xy)) for xy in slope_region().exterior]
+    return [tuple(map(float, xy)) for xy in slope_region(slope).exterior]
 
 
-def face():
+def face(slope: float = SLOPE_HEIGHT):
     """The final face as ((x_toe, y_toe), (x_crest, y_crest)), m."""
-    return (TOE_X, BASE), (CREST_X, TOP)
+    return (x_face(BASE, slope), BASE), (CREST_X, BASE + slope)
 
 
-def face_at(height: float):
-    """The face of the slope ``height`` m high (lifts removed down to TOP - height), as
-    ((x_toe, y_toe), (x_crest, y_crest)), m."""
-    return (x_face(TOP - height), TOP - height), (CREST_X, TOP)
+def face_at(height: float, slope: float = SLOPE_HEIGHT):
+    """The face of the slope once ``height`` m of it are excavated (lifts removed down to
+    the top - height), as ((x_toe, y_toe), (x_crest, y_crest)), m."""
+    top = BASE + slope
+    return (x_face(top - height, slope), top - height), (CREST_X, top)
 
 
-def x_face(y: float) -> float:
+def x_face(y: float, slope: float = SLOPE_HEIGHT) -> float:
     """x of the final face at level y (m)."""
-    return CREST_X + (TOP - y) / math.tan(math.radians(FACE_DIP))
+    return CREST_X + (BASE + slope - y) / math.tan(math.radians(FACE_DIP))
 
 
 def lift_name(k: int) -> str:
     return f"lift{k}"
 
 
-def lift(k: int) -> Region:
+def lift(k: int, slope: float = SLOPE_HEIGHT) -> Region:
     """Excavation block k (1 = top): the rock in front of the final face between
-    TOP - k LIFT and TOP - (k - 1) LIFT."""
-    y0, y1 = TOP - k * LIFT, TOP - (k - 1) * LIFT
-    return Region(lift_name(k), [(x_face(y0), y0), (WIDTH, y0), (WIDTH, y1), (x_face(y1), y1)])
+    top - k lift and top - (k - 1) lift (a lift is slope / N_LIFTS high)."""
+    top, dy = BASE + slope, slope / N_LIFTS
+    width = x_face(BASE, slope) + TOE_LENGTH
+    y0, y1 = top - k * dy, top - (k - 1) * dy
+    return Region(lift_name(k), [(x_face(y0, slope), y0), (width, y0), (width, y1),
+                                 (x_face(y1, slope), y1)])
 
 
-def height_after(k: int) -> float:
+def height_after(k: int, slope: float = SLOPE_HEIGHT) -> float:
     """Slope height (m) after excavating lifts 1..k."""
-    return k * LIFT
+    return k * slope / N_LIFTS
 
 
-def monitoring_points() -> dict:
+def monitoring_points(slope: float = SLOPE_HEIGHT) -> dict:
     """``crest`` and ``toe`` (module docstring), m."""
-    return {"crest": (CREST_X - 2.0, TOP - 1.0), "toe": (TOE_X - 2.0, BASE + 1.0)}
+    (tx, _), (cx, top) = face(slope)
+    return {"crest": (cx - 2.0, top - 1.0), "toe": (tx - 2.0, BASE + 1.0)}
 
 
 def regions(p: ToppleParams) -> list:
     """The zone of flaws, the rock behind it (``rock``) and the 12 lifts."""
-    rock = slope_region()
+    rock = slope_region(p.slope_height)
     zone = Polygon(zone_polygon_along_face(rock, p.zone_depth))
     behind = shapely.orient_polygons(rock.polygon().difference(zone))
     out = [Region("zone", np.asarray(shapely.orient_polygons(zone).exterior.coords)[:-1]
                   .tolist()),
            Region("rock", np.asarray(behind.exterior.coords)[:-1].tolist())]
-    return out + [lift(k) for k in range(1, N_LIFTS + 1)]
+    return out + [lift(k, p.slope_height) for k in range(1, N_LIFTS + 1)]
 
 
 def joint_set(p: ToppleParams) -> JointSet:
-    return JointSet("bedding", JOINT_DIP, p.spacing, dip_direction="left", origin=face()[0],
+    return JointSet("bedding", JOINT_DIP, p.spacing, dip_direction="left",
+                    origin=face(p.slope_height)[0],
                     offset=0.5 * p.spacing)
 
 
@@ -237,5 +250,5 @@ def scene(p: ToppleParams, stages=()) -> Scene:
     (``comparisons.common_toppling``)."""
     return Scene(geometry(p), materials(p), density=DENSITY, block_E=p.block_E,
                  block_nu=p.block_nu, groups=CENTRIFUGE_GROUPS,
-                 boundaries=CENTRIFUGE_BOUNDARIES, points=monitoring_points(),
+                 boundaries=CENTRIFUGE_BOUNDARIES, points=monitoring_points(p.slope_height),
                  stages=list(stages), solver=dict(SOLVER), name="common_toppling")
