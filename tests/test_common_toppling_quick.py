@@ -34,8 +34,10 @@ def test_the_6m_model_ruptures_when_its_tensile_strength_is_lowered(quick):
 @pytest.mark.xfail(strict=True, reason="measured (quick, edge elements, 2026-12-01): the 6 m "
                    "model stands at T = 1.75 MPa and ruptures at 1.5 (end springs, the model "
                    "before: 0.5 / 0.25, their threefold bending strength); the rest of the gap "
-                   "to 6.8-7 MPa is the assumed 120 m slope, whose columns carry a bending "
-                   "stress ~ gamma H^2 / t (fig 5.6's height is not given)")
+                   "to 6.8-7 MPa is the assumed 120 m slope (fig 5.6's height is not given): "
+                   "1.5 / 2.5 / 3.5 MPa at 120 / 150 / 165 m, and at 180 m it fails at T = "
+                   "10 MPa (benchmarks/trials/common_toppling_height.py; docs/cases/"
+                   "common_toppling.md, 'The slope height')")
 def test_table_5_2_ruptures_the_6m_model_and_t_at_rupture_is_near_7_mpa(quick):
     """Thesis: with table 5.2 (T = 1 MPa) a rupture forms; 7 MPa holds, 6.8 ruptures. Band:
     the quick schedule's levels are 7, 4, 2, 1, ... MPa, so a critical T in [6.8, 7] makes the

@@ -42,9 +42,10 @@ def test_onset_of_damage_rises_with_the_stress_ratio(quick):
 
 
 @pytest.mark.xfail(strict=True, reason=(
-    "measured 2026-11-25: no collapse. Quick: the slope stands down to T = 0.05 MPa at k = 0.5 "
-    "and 3 (face points move < 20 mm, everything in equilibrium); full resolution, k = 5: "
-    "5200 quartzite cracks but it stands down to 0.05 MPa (B moves 36 mm). The beds, "
+    "measured 2026-11-25 on end springs and again 2026-12-01 on edge elements: no collapse. "
+    "Quick: the slope stands down to T = 0.05 MPa at k = 0.5 and 3 (face points move < 20 mm, "
+    "everything in equilibrium); full resolution, k = 5: 5,200 (edge elements 5,800) "
+    "quartzite cracks but it stands down to 0.05 MPa (B moves 36 mm). The beds, "
     "buttressed by the fixed base below the toe and pressed on the limestone by their "
     "weight, break up without buckling out (docs/cases/highwood.md)"))
 def test_T_at_failure_rises_with_the_stress_ratio(quick):

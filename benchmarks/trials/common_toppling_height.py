@@ -31,6 +31,7 @@ from scenes import machine  # noqa: E402
 from comparisons import common_toppling as case  # noqa: E402
 from comparisons.scenes import common_toppling as scene  # noqa: E402
 from comparisons.sweep import run_sweep  # noqa: E402
+from dem_core.workflow.stages import STOPS  # noqa: E402
 
 MPA = 1e6
 THESIS = (6.8, 7.0)             # MPa: 7 held, 6.8 ruptured (table 5.2, 6 m model)
@@ -50,11 +51,23 @@ def height_members(heights, workers_seed: int = 1) -> list:
 
 
 def row(run: dict) -> dict:
-    """One height's answer (MPa, m, s)."""
+    """One height's answer (MPa, m, s). A run that stopped before its T schedule (a stage
+    ended in ``STOPS``) failed at the T it had then: ``T_START`` once the study's strengths
+    were set (``failed_before_schedule`` names the stage), None while still at the gravity
+    stage's strength (the slope cannot stand at all)."""
     h = run["params"]["slope_height"]
-    stable, failed = case._t_at_rupture(run)
+    early = None
+    if run.get("search") is not None:
+        stable, failed = case._t_at_rupture(run)
+    else:
+        i, st = next((i, st) for i, st in enumerate(run["stages"]) if st["verdict"] in STOPS)
+        assigned = any(s["kind"] == "change_material" for s in run["stages"][:i])
+        early = {"stage": i, "kind": st["kind"], "verdict": st["verdict"],
+                 "at_study_strength": assigned}
+        stable, failed = None, (case.T_START / MPA if assigned else None)
     rupture = run["rupture"]
     return {"height_m": h, "t_at_rupture_MPa": failed, "last_stable_MPa": stable,
+            "failed_before_schedule": early,
             "rupture_length_m": None if rupture is None else rupture["length_m"],
             "through_going": case.has_rupture(run, h), "cracks": run["cracks"],
             "blocks": run["blocks"], "runtime_s": run["runtime_s"]}
@@ -72,17 +85,28 @@ def figure(rows: list):
     import matplotlib.pyplot as plt
     import numpy as np
 
-    fig, ax = plt.subplots(figsize=(6.5, 4.5))
+    fig, ax = plt.subplots(figsize=(7, 5.6))
     h = np.array([r["height_m"] for r in rows])
     failed = [(r["height_m"], r["t_at_rupture_MPa"]) for r in rows
-              if r["t_at_rupture_MPa"] is not None]
+              if r["t_at_rupture_MPa"] is not None and r["failed_before_schedule"] is None]
+    early = [(r["height_m"], r["t_at_rupture_MPa"]) for r in rows
+             if r["t_at_rupture_MPa"] is not None and r["failed_before_schedule"]]
     stable = [(r["height_m"], r["last_stable_MPa"]) for r in rows
               if r["last_stable_MPa"] is not None]
     if failed:
         ax.plot(*zip(*failed), "o-", color="C3", label="DEM: first failed T (rupture)")
+    if early:
+        ax.plot(*zip(*early), "v", ms=10, color="C3",
+                label=f"DEM: fails at the schedule's start, T = {case.T_START / MPA:g} MPa")
+    never = [r["height_m"] for r in rows if r["failed_before_schedule"]
+             and not r["failed_before_schedule"]["at_study_strength"]]
+    if never:
+        ax.plot(never, [0.3] * len(never), "x", ms=10, mew=2, color="k",
+                label="DEM: fails in the excavation, rock at 50 MPa (no T can hold it)")
     if stable:
         ax.plot(*zip(*stable), "^--", mfc="none", color="C0", label="DEM: last stable T")
-    ref = next((r for r in rows if r["t_at_rupture_MPa"]), None)
+    ref = next((r for r in rows if r["t_at_rupture_MPa"]
+                and r["failed_before_schedule"] is None), None)
     if ref is not None:
         hh = np.linspace(h.min(), max(h.max(), height_for(THESIS[1], ref)), 100)
         ax.plot(hh, ref["t_at_rupture_MPa"] * (hh / ref["height_m"]) ** 2, ":", color="0.4",
@@ -92,9 +116,9 @@ def figure(rows: list):
     ax.set_ylabel("flaw tensile strength T (MPa)")
     ax.set_title("common toppling, 6 m layers, table 5.2, 3 m flaws: T at rupture vs height",
                  fontsize=9)
-    ax.set_ylim(0, 10)
+    ax.set_ylim(0, 1.1 * case.T_START / MPA)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="upper left")
+    ax.legend(fontsize=7.5, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2)
     fig.tight_layout()
     return fig
 
@@ -121,11 +145,13 @@ def main(argv=None):
               [height_for(t, ref) for t in THESIS]}
     (out / "common_toppling_height.json").write_text(json.dumps(result, indent=1))
     figure(rows).savefig(out / "common_toppling_height.png", dpi=120)
-    print("H (m) | T at rupture | last stable | rupture (m) | through | cracks | blocks | s")
+    print("H (m) | T at rupture | last stable | rupture (m) | through | cracks | blocks | s "
+          "| failed before the schedule")
     for r in rows:
         print(f"{r['height_m']:g} | {r['t_at_rupture_MPa']} | {r['last_stable_MPa']} | "
               f"{r['rupture_length_m'] and round(r['rupture_length_m'], 1)} | "
-              f"{r['through_going']} | {r['cracks']} | {r['blocks']} | {r['runtime_s']:.0f}")
+              f"{r['through_going']} | {r['cracks']} | {r['blocks']} | {r['runtime_s']:.0f} | "
+              f"{r['failed_before_schedule']}")
     print(f"gamma H^2 scaling reaches 6.8-7 MPa at H = "
           f"{result['height_for_thesis_by_scaling_m']} m; {out / 'common_toppling_height'}.png")
 
