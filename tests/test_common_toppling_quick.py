@@ -97,6 +97,28 @@ def test_scene_round_trips_and_bad_params_are_refused(tmp_path):
     sc.save(tmp_path / "s.json")
     assert Scene.load(tmp_path / "s.json").to_dict() == sc.to_dict()
     for bad in (dict(spacing=-1.0), dict(spacing=1.5, edge_length=3.0),
-                dict(flaw_tensile_strength=1e9), dict(zone_depth=500.0), dict(joint_friction=95.0)):
+                dict(flaw_tensile_strength=1e9), dict(zone_depth=500.0), dict(joint_friction=95.0),
+                dict(slope_height=float("nan"))):
         with pytest.raises(ValueError, match=next(iter(bad))):
             scene.ToppleParams(**bad)
+
+
+@pytest.mark.parametrize("height", [120.0, 180.0])
+def test_a_taller_slope_keeps_its_crest_and_its_lifts_fill_the_cut(height):
+    """``slope_height`` (the sensitivity to fig 5.6's missing height): the crest stays at x =
+    CREST_LENGTH, the 12 lifts are H / 12 high and exactly fill the rock in front of the final
+    face, and the points lie 1 m inside the crest and toe."""
+    from shapely.geometry import Polygon
+    from shapely.ops import unary_union
+
+    (tx, ty), (cx, cy) = scene.face(height)
+    assert (cx, ty, cy) == (scene.CREST_LENGTH, scene.BASE, scene.BASE + height)
+    assert tx == pytest.approx(cx + height / math.tan(math.radians(scene.FACE_DIP)))
+    lifts = unary_union([scene.lift(k, height).polygon()
+                         for k in range(1, scene.N_LIFTS + 1)])
+    width = tx + scene.TOE_LENGTH
+    cut = Polygon([(cx, cy), (width, cy), (width, ty), (tx, ty)])
+    assert lifts.symmetric_difference(cut).area == pytest.approx(0.0, abs=1e-6)
+    assert scene.height_after(scene.N_LIFTS, height) == pytest.approx(height)
+    pts = scene.monitoring_points(height)
+    assert pts["crest"] == (cx - 2.0, cy - 1.0) and pts["toe"] == (tx - 2.0, ty + 1.0)
