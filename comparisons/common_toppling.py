@@ -133,8 +133,9 @@ def height_stages(p: scene.ToppleParams, v: dict) -> list:
 
 def critical_height(run: dict, slope: float = scene.SLOPE_HEIGHT) -> tuple:
     """(Hc m, verdict): the slope height after the first lift whose solve did not stand
-    (``stages.STOPS``: "failed", "failing", "undecided" or "unstable"), and that verdict; (None, None) if every lift
-    stood."""
+    (``stages.STOPS``: "failed", "failing", "undecided" or "unstable"), and that verdict;
+    (None, None) if every lift stood. ``slope``: the final slope's height (m), whose 12
+    lifts the run removed (``ToppleParams.slope_height``)."""
     lifts = 0
     for s in run["stages"]:
         lifts += s["kind"] == "excavate"
