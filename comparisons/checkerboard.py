@@ -45,7 +45,7 @@ from comparisons.scenes import checkerboard as scene
 from comparisons.sweep import run_sweep
 from comparisons.variants import STAGED_OPTIONAL, pick_variant
 from dem_core.workflow.loading import Displace
-from dem_core.workflow.stages import STOPS, Solve
+from dem_core.workflow.stages import Solve
 from dem_core.workflow.strength import StrengthSchedule
 from dem_core.components.support import Cable, Liner
 
@@ -221,7 +221,7 @@ def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
         conv = by_label["conventional"]
         result.methods["conventional"] = {
             "ucs_MPa": conv["ucs"] / MPA, "t_failure_MPa": _t_failure(conv)[1],
-            "failed_before_schedule": failed_before_schedule(conv),
+            "failed_before_schedule": staged.stopped_before_search(conv),
             "cracks": conv["cracks"], "runtime_s": conv["runtime_s"]}
     if v["continuum"]:
         from comparisons.checkerboard_continuum import run_continuum
@@ -258,7 +258,7 @@ def _back_analysis(result, back):
         rows.append({"ucs_MPa": r["ucs"] / MPA, "c_MPa": c / MPA, "friction": phi,
                      "hoek_brown_t_kPa": hb_t / 1e3, "t_failure_MPa": failed,
                      "t_last_stable_MPa": stable, "cracks": r["cracks"],
-                     "failed_before_schedule": failed_before_schedule(r),
+                     "failed_before_schedule": staged.stopped_before_search(r),
                      "rupture": r["rupture"], "cracks_before_search": _cracks_before_search(r),
                      "contacts": r["contacts"],
                      "blocks": r["blocks"], "runtime_s": r["runtime_s"]})
@@ -290,17 +290,6 @@ def _back_analysis(result, back):
           w["hoek_brown_t_kPa"] / 1e3] for w in rows])
 
 
-def failed_before_schedule(run) -> dict | None:
-    """The stage that stopped a run before its T schedule ran ({"stage", "kind", "verdict"}),
-    or None when the schedule ran. The run then failed at its real strengths: its T at
-    failure is the weathered gneiss flaws' T it started with (``start_t_mpa``), never
-    "stands"."""
-    if run.get("search") is not None:
-        return None
-    i, st = next((i, st) for i, st in enumerate(run["stages"]) if st["verdict"] in STOPS)
-    return {"stage": i, "kind": st["kind"], "verdict": st["verdict"]}
-
-
 def start_t_mpa(run) -> float:
     """The weathered gneiss flaws' T (MPa) at the real strengths, before the schedule."""
     p = scene.CheckerboardParams(**run["params"])
@@ -309,8 +298,9 @@ def start_t_mpa(run) -> float:
 
 def _t_failure(run):
     """(last stable, first failed) T of a run, MPa: its schedule's, or (None, the T it
-    started with) when a stage before the schedule failed."""
-    if failed_before_schedule(run) is not None:
+    started with) when a stage before the schedule failed (``staged.stopped_before_search``:
+    it failed at its real strengths, never "stands")."""
+    if staged.stopped_before_search(run) is not None:
         return None, start_t_mpa(run)
     stable, failed = staged.value_at_failure(run)
     return _mpa(stable), _mpa(failed)
@@ -323,7 +313,7 @@ def _support(result, sup, uns):
     for name, r in (("supported", sup), ("unsupported", uns)):
         s = r["search"]
         out[name] = {"t_failure_MPa": _t_failure(r)[1],
-                     "failed_before_schedule": failed_before_schedule(r),
+                     "failed_before_schedule": staged.stopped_before_search(r),
                      "levels_MPa": [] if s is None else [x / MPA for x in s["level"]],
                      "verdicts": [] if s is None else s["verdict"],
                      "crest_displacement_m": weakening_displacement(r, "crest"),
@@ -345,11 +335,10 @@ def _weathering(result, r):
     the skin was moved records only where it stopped (``failed_before_displacement``)."""
     i = next((k for k, s in enumerate(r["stages"]) if s["kind"] == "displace"), None)
     if i is None:
-        k, st = next((k, st) for k, st in enumerate(r["stages"]) if st["verdict"] in STOPS)
+        early = staged.stopped_before_search(r)     # the weathering run has no search
         result.methods["dem"]["weathering"] = {
-            "displace_verdict": None, "final_verdict": st["verdict"],
-            "failed_before_displacement": {"stage": k, "kind": st["kind"],
-                                           "verdict": st["verdict"]},
+            "displace_verdict": None, "final_verdict": early and early["verdict"],
+            "failed_before_displacement": early,
             "cracks": r["cracks"], "runtime_s": r["runtime_s"]}
         result.methods["dem"]["runtime_s"] += r["runtime_s"]
         return

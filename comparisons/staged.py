@@ -51,7 +51,7 @@ import numpy as np
 from comparisons.progress import ramp_status, report
 from dem_core.output.plot import block_picture
 from dem_core.workflow.scene import build_model
-from dem_core.workflow.stages import check_stages, run_stages
+from dem_core.workflow.stages import STOPS, check_stages, run_stages
 
 __all__ = ["INTACT", "stage_run", "settled_stages", "judged_stages", "search_rows",
            "history_figure", "coincident_rims", "curve_styles", "value_at_failure",
@@ -185,6 +185,18 @@ def _search(records) -> dict | None:
                 "last_stable": rec.last_stable_level, "failure": rec.failure_level,
                 "unstable": rec.unstable, "blowups": list(rec.blowups)}
     return None
+
+
+def stopped_before_search(run: dict) -> dict | None:
+    """The stage that ended a run before its search (strength schedule, ramp) could run,
+    as {"stage", "kind", "verdict"} (its verdict one of ``stages.STOPS``), or None when the
+    search ran or no stage stopped. Such a run failed at the strengths it had then; it never
+    stood."""
+    if run.get("search") is not None:
+        return None
+    hit = next(((i, st) for i, st in enumerate(run["stages"]) if st["verdict"] in STOPS), None)
+    return None if hit is None else {"stage": hit[0], "kind": hit[1]["kind"],
+                                     "verdict": hit[1]["verdict"]}
 
 
 def value_at_failure(run: dict):

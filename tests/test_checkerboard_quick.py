@@ -150,6 +150,7 @@ def test_scene_round_trips_and_bad_params_are_refused(tmp_path):
 
 
 def test_a_run_that_failed_before_its_schedule_fails_at_the_t_it_started_with():
+    from comparisons import staged
     from comparisons.scenes import checkerboard as cb
 
     params = dict(checkerboard.VARIANTS["quick"]["params"], ucs=50e6)
@@ -157,11 +158,11 @@ def test_a_run_that_failed_before_its_schedule_fails_at_the_t_it_started_with():
     early = {"params": params, "search": None,
              "stages": [{"kind": "solve", "verdict": "stable"},
                         {"kind": "strength", "verdict": "failed"}]}
-    assert checkerboard.failed_before_schedule(early) == {
+    assert staged.stopped_before_search(early) == {
         "stage": 1, "kind": "strength", "verdict": "failed"}
     assert checkerboard._t_failure(early) == (None, pytest.approx(c / 1e6, rel=1e-12))
     with_t = dict(early, params=dict(params, tensile=0.8e6))
     assert checkerboard._t_failure(with_t)[1] == pytest.approx(0.8)
     ran = dict(early, search={"last_stable": 0.5e6, "failure": 0.2e6})
-    assert checkerboard.failed_before_schedule(ran) is None
+    assert staged.stopped_before_search(ran) is None
     assert checkerboard._t_failure(ran) == (pytest.approx(0.5), pytest.approx(0.2))

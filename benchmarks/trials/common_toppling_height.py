@@ -31,7 +31,7 @@ from scenes import machine  # noqa: E402
 from comparisons import common_toppling as case  # noqa: E402
 from comparisons.scenes import common_toppling as scene  # noqa: E402
 from comparisons.sweep import run_sweep  # noqa: E402
-from dem_core.workflow.stages import STOPS  # noqa: E402
+from comparisons.staged import stopped_before_search  # noqa: E402
 
 MPA = 1e6
 THESIS = (6.8, 7.0)             # MPa: 7 held, 6.8 ruptured (table 5.2, 6 m model)
@@ -56,14 +56,12 @@ def row(run: dict) -> dict:
     were set (``failed_before_schedule`` names the stage), None while still at the gravity
     stage's strength (the slope cannot stand at all)."""
     h = run["params"]["slope_height"]
-    early = None
-    if run.get("search") is not None:
+    early = stopped_before_search(run)
+    if early is None:
         stable, failed = case._t_at_rupture(run)
     else:
-        i, st = next((i, st) for i, st in enumerate(run["stages"]) if st["verdict"] in STOPS)
-        assigned = any(s["kind"] == "change_material" for s in run["stages"][:i])
-        early = {"stage": i, "kind": st["kind"], "verdict": st["verdict"],
-                 "at_study_strength": assigned}
+        assigned = any(s["kind"] == "change_material" for s in run["stages"][:early["stage"]])
+        early["at_study_strength"] = assigned
         stable, failed = None, (case.T_START / MPA if assigned else None)
     rupture = run["rupture"]
     return {"height_m": h, "t_at_rupture_MPa": failed, "last_stable_MPa": stable,
