@@ -37,10 +37,10 @@ MPA = 1e6
 THESIS = (6.8, 7.0)             # MPa: 7 held, 6.8 ruptured (table 5.2, 6 m model)
 
 
-def height_members(heights, workers_seed: int = 1) -> list:
+def height_members(heights, seed: int = 1) -> list:
     """The quick's table 5.2 member at each height (m)."""
     v = case.VARIANTS["quick"]
-    base = next(m for m in case.members(v, workers_seed) if m["label"] == "6 m, table 5.2")
+    base = next(m for m in case.members(v, seed) if m["label"] == "6 m, table 5.2")
     out = []
     for h in heights:
         m = json.loads(json.dumps(base))

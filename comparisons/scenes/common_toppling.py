@@ -71,10 +71,7 @@ N_LIFTS = 12
 LIFT = SLOPE_HEIGHT / N_LIFTS                           # 10 m
 JOINT_DIP = 80.0                                        # into the slope, deg
 DENSITY = 2650.0                                        # kg/m3 (assumed)
-RUN = SLOPE_HEIGHT / math.tan(math.radians(FACE_DIP))
-WIDTH = CREST_LENGTH + RUN + TOE_LENGTH
-TOP = BASE + SLOPE_HEIGHT
-CREST_X, TOE_X = CREST_LENGTH, CREST_LENGTH + RUN
+CREST_X = CREST_LENGTH                                  # the crest's x at every height
 # Gravity equilibrium before the study's strengths (thesis: "high strength values"): Pa, deg.
 GRAVITY_STRENGTH = dict(tensile_strength=50e6, cohesion=50e6, friction=45.0)
 SPACINGS = (6.0, 3.0, 1.5)
