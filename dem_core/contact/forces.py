@@ -76,6 +76,18 @@ def _contact_points(k, c, s, zones, xb, yb):
     return any_blocks
 
 
+def body_points_only(zones):
+    """True where every contact point is a body point (no zones, or none that move points)."""
+    raise NotImplementedError("numba-only: called from compiled code")
+
+
+@overload(body_points_only, inline="always")
+def _body_points_only(zones):
+    if isinstance(zones, types.NoneType):
+        return lambda zones: True
+    return lambda zones: zones.point_offsets.shape[0] == 0
+
+
 def reanchor_on_zones(k, c, s, zones, nx, ny):
     """After a contact k on a deformable block failed or slipped: its moved point(s) back to
     rest places (``boundary_points.rest_points``), and its gap and offset measured anew from
@@ -184,9 +196,16 @@ def edge_correction(k, c, s, xk, yk):
     on A about A's. The forces act at k's point (xk, yk) and at p's. Keeps the edge's
     compressed length in ``Contacts.edge_x0`` and scales a closed end's shear stress for the
     next step where it grew (module docstring): call once per edge and step."""
+    xp, yp = _force_point(c.partner[k], c, s)
+    return edge_share(k, c, s, xk, yk, xp, yp)
+
+
+@njit(cache=True, inline="always")
+def edge_share(k, c, s, xk, yk, xp, yp):
+    """``edge_correction`` with the partner's force point (xp, yp) given (the contact loop
+    has it from the partner's own update, the contact just before)."""
     p = c.partner[k]
     le = c.length[k] + c.length[p]
-    xp, yp = _force_point(p, c, s)
     span = (xk - xp) * (xk - xp) + (yk - yp) * (yk - yp)
     if abs(span - le * le) > SPAN_TOLERANCE * le * le:
         c.edge_x0[k], c.edge_x0[p] = 0.0, 0.0
@@ -241,7 +260,8 @@ def _grown(q, c, x0):
         f = x_old / x0
         c.work_friction[q] += t * t * x_old * (1.0 - f) / (6.0 * c.ks[q])
         c.ts[q] = t * f
-    c.edge_x0[q] = x0
+    if x_old != x0:                # (a closed edge's x0 rarely changes: no store then)
+        c.edge_x0[q] = x0
 
 
 @njit(cache=True, inline="always")
@@ -330,6 +350,7 @@ def chunk_forces(c, strength, s, rnd, zones, par, edges, j, cracks, time):
             f[i, 1] = 0.0
             f[i, 2] = 0.0
     failures = 0
+    last, lx, ly = np.int64(-1), 0.0, 0.0      # the last contact whose force point is kept
     # range from 0: numba then knows k >= 0 and drops the negative-index wraparound of every
     # array access (a loop over range(k0, k1) ran 20 % slower than range(n)); the skipped part
     # costs a compare each. (An unsigned index does it too, but compiles every helper again.)
@@ -362,7 +383,10 @@ def chunk_forces(c, strength, s, rnd, zones, par, edges, j, cracks, time):
             f[a, 2] -= (xa - pos[a, 0]) * fy - (ya - pos[a, 1]) * fx
         p = c.partner[k] if edges else -1
         if 0 <= p < k and p >= k0:     # the edge's share (``edge_correction``): partner here
-            gx, gy, mb, ma = edge_correction(k, c, s, xa, ya)
+            if p == last:              # its point from its own update (the same arithmetic)
+                gx, gy, mb, ma = edge_share(k, c, s, xa, ya, lx, ly)
+            else:
+                gx, gy, mb, ma = edge_correction(k, c, s, xa, ya)
             if not (own_a and own_b):  # for the shared pass (the owned blocks may move)
                 ew = par.edge_work
                 ew[k, 0] = gx
@@ -377,6 +401,12 @@ def chunk_forces(c, strength, s, rnd, zones, par, edges, j, cracks, time):
                 f[a, 0] -= gx
                 f[a, 1] -= gy
                 f[a, 2] -= ma
+        # a point kept only where _force_point would compute the same: no reanchoring this
+        # step, sharp corners, body points (the edge elements' own case)
+        if edges and event == 0 and not is_rounded(rnd, c, k) and body_points_only(zones):
+            last, lx, ly = np.int64(k), xa, ya
+        else:
+            last = np.int64(-1)
     return failures
 
 
