@@ -47,11 +47,12 @@ def test_onset_of_damage_rises_with_the_stress_ratio(quick):
     "everything in equilibrium); full resolution, k = 5: 5,200 (edge elements 5,800) "
     "quartzite cracks but it stands down to 0.05 MPa (B moves 36 mm). The toe's assumed "
     "dimensions do not matter (10-60 m of rock under the toe, bench 2-40 m, dip 84 or 88: "
-    "all stand; benchmarks/trials/highwood_toe.py). The planar beds lean on the limestone: "
-    "pushed on it by cos(dip) of their weight, they must be deflected 1.7-5 m outwards "
-    "before they can buckle (Rayleigh-Ritz; Hobbs's upheaval buckling), so they break up "
-    "without buckling out; the thesis's buckles need a waviness, an unsupported toe or "
-    "deformable blocks (docs/cases/highwood.md, 'Why the beds stand')"))
+    "all stand; benchmarks/trials/highwood_toe.py), nor do rigid blocks (deformable "
+    "quartzite stands too). The planar beds lean on the limestone: pushed on it by "
+    "cos(dip) of their weight, they must be deflected 1.7-5 m outwards before they can "
+    "buckle (Rayleigh-Ritz; Hobbs's upheaval buckling), so they break up without buckling "
+    "out; the thesis's buckles need a waviness or an unsupported toe "
+    "(docs/cases/highwood.md, 'Why the beds stand')"))
 def test_T_at_failure_rises_with_the_stress_ratio(quick):
     """Thesis 5.3.3: the slope buckles (k = 5 at 1.15 MPa, base run at 0.2 MPa) and T at
     failure rises with k."""
