@@ -63,34 +63,37 @@ CHANGES = [dict(), dict(base=30.0), dict(base=60.0), dict(toe_length=2.0),
            dict(toe_length=40.0), dict(face_dip=88.0)]
 
 
+def _terms(t: float, dip_deg: float, length: float, ei_factor: float) -> tuple:
+    """(q, q_n I0, q I1 - EI I2): the axial load (N/m per m), the pressing weight's linear
+    coefficient and the quadratic one of dPi (module docstring)."""
+    psi = math.radians(dip_deg)
+    q, qn = GAMMA * t * math.sin(psi), GAMMA * t * math.cos(psi)
+    ei = ei_factor * E * t ** 3 / 12.0
+    i0 = length * (1.0 - 2.0 / math.pi)
+    i1 = math.pi ** 2 / 4.0 * (0.25 + 1.0 / math.pi ** 2)
+    i2 = math.pi ** 4 / (32.0 * length ** 3)
+    return q, qn * i0, q * i1 - ei * i2
+
+
 def barrier(t: float, dip_deg: float, length: float, ei_factor: float = 1.0) -> dict:
     """The Rayleigh-Ritz barrier (module docstring) of a bed t (m) thick, dipping dip_deg,
     length (m) from its fixed foot to its top; ei_factor scales E t^3 / 12 (0: cracked)."""
-    psi = math.radians(dip_deg)
-    q, qn = GAMMA * t * math.sin(psi), GAMMA * t * math.cos(psi)
-    ei = ei_factor * E * t ** 3 / 12.0
-    i0 = length * (1.0 - 2.0 / math.pi)
-    i1 = math.pi ** 2 / 4.0 * (0.25 + 1.0 / math.pi ** 2)
-    i2 = math.pi ** 4 / (32.0 * length ** 3)
-    soft = q * i1 - ei * i2                     # N m / m^2: the quadratic term's stiffness
+    q, lin, soft = _terms(t, dip_deg, length, ei_factor)
     l_cr = (7.837 * E * t ** 3 / 12.0 / q) ** (1.0 / 3.0)
     out = {"t_m": t, "dip_deg": dip_deg, "length_m": length, "ei_factor": ei_factor,
-           "greenhill_length_m": round(l_cr, 2), "q_N_per_m": q, "qn_N_per_m": qn}
+           "greenhill_length_m": round(l_cr, 2), "q_N_per_m": q,
+           "qn_N_per_m": GAMMA * t * math.cos(math.radians(dip_deg))}
     if soft <= 0:
         return dict(out, unstable=False, a_star_m=None, barrier_J_per_m=None)
-    a_star = qn * i0 / soft
+    a_star = lin / soft
     return dict(out, unstable=True, a_star_m=round(a_star, 3),
-                barrier_J_per_m=round(0.5 * qn * i0 * a_star, 1))
+                barrier_J_per_m=round(0.5 * lin * a_star, 1))
 
 
 def energy_curve(t, dip_deg, length, ei_factor, a):
-    psi = math.radians(dip_deg)
-    q, qn = GAMMA * t * math.sin(psi), GAMMA * t * math.cos(psi)
-    ei = ei_factor * E * t ** 3 / 12.0
-    i0 = length * (1.0 - 2.0 / math.pi)
-    i1 = math.pi ** 2 / 4.0 * (0.25 + 1.0 / math.pi ** 2)
-    i2 = math.pi ** 4 / (32.0 * length ** 3)
-    return [x * qn * i0 - 0.5 * x * x * (q * i1 - ei * i2) for x in a]
+    """dPi (J/m) at each outward deflection in ``a`` (m)."""
+    _, lin, soft = _terms(t, dip_deg, length, ei_factor)
+    return [x * lin - 0.5 * x * x * soft for x in a]
 
 
 def sensitivity() -> list:
