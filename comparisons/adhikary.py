@@ -34,6 +34,7 @@ from comparisons.results import CaseResult, Curve
 from comparisons.scenes import adhikary as scene
 from comparisons.sweep import run_sweep
 from comparisons.variants import pick_variant
+from dem_core.output.rupture import path_at_angle
 
 DESCRIPTION = ("Centrifuge flexural toppling (Adhikary & Dyskin 2006, thesis 4.2): failure g "
                "against flaw tensile strength; damage model vs conventional DEM vs continuum")
@@ -213,6 +214,22 @@ def _errors(result, by_label):
                          rupture["angle_above_joint_normal_deg"], [12.0, 20.0])
 
 
+def experiment_paths(p: "scene.AdhikaryParams | None" = None):
+    """The experiment's main fracture path as a band (Adhikary & Dyskin 2006, thesis 4.2): from
+    the toe into the slope at 12 and 20 degrees above the normal to the beds
+    (``REFERENCE["experiment_rupture_angle_above_joint_normal_deg"]``), each drawn to the
+    model's back (x = 0). A (label, [two (2, 2) polylines]) pair for
+    ``centrifuge.cracks_figure``."""
+    p = p or scene.AdhikaryParams()
+    toe = scene.face(p)[0]
+    lines = []
+    for angle in REFERENCE["experiment_rupture_angle_above_joint_normal_deg"]:
+        unit = path_at_angle(toe, p.joint_dip, angle, 1.0, inward=-1.0, dip_direction="left")
+        lines.append(path_at_angle(toe, p.joint_dip, angle, toe[0] / abs(unit[1, 0] - toe[0]),
+                                   inward=-1.0, dip_direction="left"))
+    return "experiment's fracture path, 12-20 deg above the bed normal", lines
+
+
 def _curves_and_figures(result, runs, base_run):
     """The curves (each run's displacement of A and B against g, its cracks; failure g against
     T) and figures: displacement against g, failure g against T, the base run's cracks at
@@ -255,7 +272,7 @@ def _curves_and_figures(result, runs, base_run):
     line = None if base_run["rupture"] is None else base_run["rupture"]["polyline"]
     result.figures["cracks_at_failure"] = centrifuge.cracks_figure(
         scene, base_run, line, f"damage model, {base_run['label']} MPa: flaw cracks at "
-        f"failure g = {base_run['failure_g']}")
+        f"failure g = {base_run['failure_g']}", references=[experiment_paths()])
     for r in [base_run] + [r for r in runs if r is not base_run]:     # each run's g search
         name = centrifuge.file_name(r["label"])
         result.figures[f"g_search_{name}"] = centrifuge.search_plot(r)

@@ -296,11 +296,12 @@ def search_plot(run: dict):
     return search_figure(ramp_record(run), f"g search, {run['label']}: {ramp_words(run)}")
 
 
-def cracks_figure(scene, run: dict, rupture_line=None, title: str = "", reference_line=None):
+def cracks_figure(scene, run: dict, rupture_line=None, title: str = "", references=()):
     """The failed slope: the run's blocks at the end of its run (displacement magnified, the
     factor in the title, coloured by the true displacement in mm), the joints, the cracks
     (tension red, shear blue, along the broken bonds), its rupture surface and points A and B;
-    ``reference_line`` (n, 2) m is drawn dashed (e.g. a thesis's rupture). A run without a
+    ``references``: (label, (n, 2) m polylines) pairs, each drawn dashed (e.g. an experiment's
+    fracture paths, ``experiment_paths``). A run without a
     ``picture`` (``ramp_run``) is drawn as its cracks' points on the section."""
     import matplotlib.pyplot as plt
 
@@ -313,9 +314,10 @@ def cracks_figure(scene, run: dict, rupture_line=None, title: str = "", referenc
                   f"(colour: true displacement)")
     else:
         _crack_points(ax, scene, run, rupture_line)
-    if reference_line is not None:
-        line = np.asarray(reference_line)
-        ax.plot(line[:, 0], line[:, 1], "k--", lw=1.5, label="reference rupture (approx.)")
+    for (label, lines), style in zip(references, ("k--", "m:", "c-.")):
+        for i, line in enumerate(lines):
+            line = np.asarray(line, float)
+            ax.plot(line[:, 0], line[:, 1], style, lw=1.5, label=None if i else label)
     for name, (x, y) in scene.monitoring_points().items():
         ax.plot(x, y, "k^")
         ax.annotate(name, (x, y), xytext=(4, 4), textcoords="offset points")

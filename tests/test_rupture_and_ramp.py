@@ -7,7 +7,8 @@ import pytest
 from dem_core.contact.materials import Material
 from dem_core.model import Model
 from dem_core.workflow.gravity_ramp import raise_gravity
-from dem_core.output.rupture import angle_to_joint_normal, depth_from_face, find_rupture
+from dem_core.output.rupture import (angle_to_joint_normal, depth_from_face, find_rupture,
+                                     path_at_angle)
 from dem_core.geometry.simple_blocks import brick_grid
 
 
@@ -32,6 +33,23 @@ def test_rupture_found_and_its_angle_to_the_joint_normal():
     # joints dipping 80 into the slope: normal rises 10 deg inwards -> 15 deg above it
     assert angle_to_joint_normal(r.direction, 80.0, "left") == pytest.approx(15.0, abs=1.0)
     assert depth_from_face(r.polyline, face) > 0.1
+
+
+@pytest.mark.parametrize("dip, dip_direction, inward", [(81.0, "left", -1.0),
+                                                        (70.0, "right", -1.0),
+                                                        (60.0, "left", 1.0)])
+def test_a_path_drawn_at_an_angle_reads_back_that_angle(dip, dip_direction, inward):
+    """``path_at_angle`` is the inverse of ``angle_to_joint_normal``; for beds dipping 81 deg
+    into a slope facing +x the normal rises 9 deg inwards, so 12 deg above it rises 21 deg."""
+    for angle in (-10.0, 0.0, 12.0, 20.0):
+        a, b = path_at_angle((0.4, 0.05), dip, angle, 0.3, inward, dip_direction)
+        assert np.hypot(*(b - a)) == pytest.approx(0.3, rel=1e-12)
+        assert np.sign(b[0] - a[0]) == inward
+        assert angle_to_joint_normal(b - a, dip, dip_direction) == pytest.approx(angle, abs=1e-9)
+    a, b = path_at_angle((0.4, 0.05), 81.0, 12.0, 1.0)
+    assert math.degrees(math.atan2(b[1] - a[1], a[0] - b[0])) == pytest.approx(21.0, abs=1e-9)
+    with pytest.raises(ValueError, match="inward"):
+        path_at_angle((0.0, 0.0), 81.0, 12.0, 1.0, inward=0.5)
 
 
 def test_no_rupture_from_scattered_cracks():

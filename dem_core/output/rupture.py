@@ -24,7 +24,8 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 from scipy.spatial import cKDTree
 
-__all__ = ["RuptureSurface", "find_rupture", "angle_to_joint_normal", "depth_from_face"]
+__all__ = ["RuptureSurface", "find_rupture", "angle_to_joint_normal", "path_at_angle",
+           "depth_from_face"]
 
 
 @dataclass
@@ -117,6 +118,26 @@ def angle_to_joint_normal(direction, joint_dip_deg, dip_direction="left"):
         normal = -normal
     rise = lambda v: math.degrees(math.atan2(v[1], abs(v[0])))  # noqa: E731
     return rise(d) - rise(normal)
+
+
+def path_at_angle(start, joint_dip_deg, angle_deg, length, inward=-1.0,
+                  dip_direction="left"):
+    """A straight path (2, 2) m from ``start`` into the rock at ``angle_deg`` above the normal to
+    a joint set: the inverse of ``angle_to_joint_normal`` (same convention), e.g. an
+    experiment's fracture path "12 to 20 degrees above the normal to the joints" drawn from the
+    toe. ``inward``: the sign of x going into the rock (-1 for a slope facing +x); ``length``
+    (m) along the path."""
+    if inward not in (-1.0, 1.0, -1, 1) or not length > 0:
+        raise ValueError(f"path_at_angle: inward must be -1 or 1 (got {inward!r}) and length "
+                         f"positive (got {length!r})")
+    dip = math.radians(joint_dip_deg)
+    sx = -1.0 if dip_direction == "left" else 1.0
+    normal = np.array([math.sin(dip), sx * math.cos(dip)])        # normal to the down-dip vector
+    if normal[0] * inward < 0:
+        normal = -normal
+    rise = math.atan2(normal[1], abs(normal[0])) + math.radians(angle_deg)
+    a = np.asarray(start, float)
+    return np.array([a, a + length * np.array([inward * math.cos(rise), math.sin(rise)])])
 
 
 def depth_from_face(polyline, face):
