@@ -246,9 +246,35 @@ def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
     t_dem = time.perf_counter()
     dem = {"envelopes": {}, "runtime_by_study_s": {}}
 
-    # 1. virtual lab ------------------------------------------------------------------
-    t0 = time.perf_counter()
+    t0 = time.perf_counter()                     # 1. the virtual lab: UCS and tension
+    best, ucs_vs_c = _virtual_lab(cfg, dem, say)
+    dem["runtime_by_study_s"]["lab"] = time.perf_counter() - t0
+    res.curves["ucs_stress_strain"] = Curve(
+        ["axial_strain", "axial_stress_pa", "lateral_strain"], best["curve"])
+    res.curves["ucs_vs_cohesion"] = Curve(["flaw_cohesion_mpa", "ucs_mpa"], ucs_vs_c)
 
+    t0 = time.perf_counter()                     # 2-5. the direct shear studies
+    keys, out = _shear_runs(cfg, say)
+    dem["runtime_by_study_s"]["direct_shear"] = time.perf_counter() - t0
+    runs = _envelopes(cfg, keys, out, dem, res)
+
+    if cfg["accuracy_edges"]:                    # 6. error against run time
+        dem["accuracy"] = accuracy_study(cfg, scene.THESIS_COHESION, say)
+    dem["runtime_s"] = time.perf_counter() - t_dem
+    res.methods["dem"] = dem
+
+    _references(res, dem, runs, scene.THESIS_COHESION)
+    if cfg["continuum"]:
+        _continuum(res, cfg, say)
+    _figures(res, dem, runs, best, ucs_vs_c, cfg)
+    res.notes += _notes(cfg)
+    return res
+
+
+def _virtual_lab(cfg: dict, dem: dict, say):
+    """The UCS calibration of the flaw cohesion (``lab.calibrate_cohesion``), a sweep of c, the
+    loading-rate check and the tension test at the thesis's c; their numbers go into ``dem``.
+    Returns the calibrated UCS run and the (c MPa, UCS MPa) rows."""
     def ucs_q(c, **over):
         name = f"ucs_c{c / MPA:.6g}" + "".join(f"_{k}{v:g}" for k, v in over.items())
         return _vtk(ucs_query(cfg, c, **over), name)
@@ -306,14 +332,15 @@ def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
                          "steps": best["steps"], "dt_s": best["dt"],
                          "runtime_s": best["runtime_s"]},
     })
-    dem["runtime_by_study_s"]["lab"] = time.perf_counter() - t0
-    res.curves["ucs_stress_strain"] = Curve(
-        ["axial_strain", "axial_stress_pa", "lateral_strain"], best["curve"])
-    res.curves["ucs_vs_cohesion"] = Curve(["flaw_cohesion_mpa", "ucs_mpa"], ucs_vs_c)
+    return best, ucs_vs_c
 
-    # 2-5. direct shear studies ----------------------------------------------------------
-    t0 = time.perf_counter()
+
+def _shear_runs(cfg: dict, say):
+    """Every direct-shear specimen of the studies (Lajtai's open and closed joints, persistence
+    k, tensile strength, block size; thesis 3.6-3.8), run as one sweep: the (study, sn) keys
+    and {key: run}."""
     members, keys = [], []
+    c_use = scene.THESIS_COHESION
 
     def add(study, sn_list, pic=(), **over):
         for sn in sn_list:
@@ -349,8 +376,15 @@ def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
     say(f"direct shear: {len(members)} runs")
     out = dict(zip(keys, run_sweep(shear_member, members, workers=cfg["workers"],
                                    progress=say)))
-    dem["runtime_by_study_s"]["direct_shear"] = time.perf_counter() - t0
-    # shared runs: T = 1.0 is the k = 0 persistence run, edge 7 mm the same run again
+    return keys, out
+
+
+def _envelopes(cfg: dict, keys: list, out: dict, dem: dict, res: CaseResult) -> dict:
+    """Each study's envelope (peak shear against normal stress) into ``dem["envelopes"]`` and
+    the curves, and the shear specimen's summary; {study: [(sn, run), ...]}. Studies that are
+    the same runs share them: T = 1.0 MPa is the k = 0 persistence run, and so is the 7 mm
+    edge of the scale study."""
+    sns, lsns = cfg["normal_stresses"], cfg["lajtai_normal_stresses"]
     alias = {}
     if 0.0 in cfg["persistence"]:
         alias[f"tensile_T{STUDY_TENSILE / MPA:g}"] = "persistence_k0"
@@ -374,20 +408,7 @@ def run(variant="quick", seed: int = 1, progress=None) -> CaseResult:
                              "mean_steps": float(np.mean([r["steps"] for r in out.values()])),
                              "mean_runtime_s": float(np.mean([r["runtime_s"]
                                                               for r in out.values()]))}
-
-    # 6. error against run time ------------------------------------------------------------
-    if cfg["accuracy_edges"]:
-        dem["accuracy"] = accuracy_study(cfg, c_use, say)
-    dem["runtime_s"] = time.perf_counter() - t_dem
-    res.methods["dem"] = dem
-
-    # references and errors ------------------------------------------------------------
-    _references(res, dem, runs, c_use)
-    if cfg["continuum"]:
-        _continuum(res, cfg, say)
-    _figures(res, dem, runs, best, ucs_vs_c, cfg)
-    res.notes += _notes(cfg)
-    return res
+    return runs
 
 
 def _study_order(name):
@@ -533,8 +554,23 @@ def _notes(cfg):
 
 # ---------------------------------------------------------------------------- figures
 def _figures(res, dem, runs, best, ucs_vs_c, cfg):
+    """The case's figures: the UCS test, the envelopes, the normalised persistence strength,
+    the specimens after the peak and error against run time (each only with its runs)."""
     import matplotlib
     matplotlib.use("Agg")
+
+    _ucs_figure(res, dem, best, ucs_vs_c)
+    _envelope_figure(res, runs, cfg)
+    if any(s.startswith("persistence") for s in runs) and "persistence_k0" in runs:
+        _persistence_figure(res, runs)
+    _specimens_figure(res, runs)
+    if "accuracy" in dem:
+        _accuracy_figure(res, dem["accuracy"]["rows"])
+
+
+def _ucs_figure(res, dem, best, ucs_vs_c):
+    """Stress-strain of the calibrated UCS test (fig 3.8), UCS against c (fig 3.9), the
+    specimen at the end."""
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(1, 3, figsize=(14, 4.2), gridspec_kw={"width_ratios": [3, 3, 2]})
@@ -557,6 +593,12 @@ def _figures(res, dem, runs, best, ucs_vs_c, cfg):
                            f"%)")
     fig.tight_layout()
     res.figures["ucs"] = fig
+
+
+def _envelope_figure(res, runs, cfg):
+    """Peak shear against normal stress per study group (figs 3.11-3.17), Lajtai's composite
+    envelope dashed, the continuum's envelope on the last panel."""
+    import matplotlib.pyplot as plt
 
     groups = [("lajtai", "Lajtai specimens, k = 0.5 (figs 3.11-3.12)"),
               ("persistence", "persistence, friction 30 (fig. 3.14)"),
@@ -586,66 +628,79 @@ def _figures(res, dem, runs, best, ucs_vs_c, cfg):
         axes[0][-1].legend(fontsize=7)
     res.figures["envelopes"] = fig
 
-    if any(s.startswith("persistence") for s in runs) and "persistence_k0" in runs:
-        fig, ax = plt.subplots(figsize=(5, 4))
-        intact = np.array([r["peak"] for _, r in runs["persistence_k0"]])
-        for st in (s for s in runs if s.startswith("persistence")):
-            sn = np.array([s for s, _ in runs[st]])
-            ax.plot(sn / MPA, np.array([r["peak"] for _, r in runs[st]]) / intact, "o-",
-                    label=st)
-        sn = np.array([s for s, _ in runs["persistence_k0"]])
-        ax.plot(sn / MPA, sn * math.tan(math.radians(STUDY_FRICTION)) / intact, "k:",
-                label="friction 30 / intact")
-        ax.set_xlabel("normal stress (MPa)")
-        ax.set_ylabel("peak shear / intact (k = 0) peak")
-        ax.set_title("normalised strength (fig. 3.15)")
-        ax.legend(fontsize=7)
-        res.figures["persistence_normalised"] = fig
+
+def _persistence_figure(res, runs):
+    """Each persistence's peak over the intact (k = 0) peak (fig 3.15)."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(5, 4))
+    intact = np.array([r["peak"] for _, r in runs["persistence_k0"]])
+    for st in (s for s in runs if s.startswith("persistence")):
+        sn = np.array([s for s, _ in runs[st]])
+        ax.plot(sn / MPA, np.array([r["peak"] for _, r in runs[st]]) / intact, "o-",
+                label=st)
+    sn = np.array([s for s, _ in runs["persistence_k0"]])
+    ax.plot(sn / MPA, sn * math.tan(math.radians(STUDY_FRICTION)) / intact, "k:",
+            label="friction 30 / intact")
+    ax.set_xlabel("normal stress (MPa)")
+    ax.set_ylabel("peak shear / intact (k = 0) peak")
+    ax.set_title("normalised strength (fig. 3.15)")
+    ax.legend(fontsize=7)
+    res.figures["persistence_normalised"] = fig
+
+
+def _specimens_figure(res, runs):
+    """The specimens that kept a picture, after the peak (blocks, joints, cracks by mode)."""
+    import matplotlib.pyplot as plt
 
     pics, seen = [], set()
     for st, rr in runs.items():                   # an aliased study's runs are drawn once
         pics += [(st, sn, r) for sn, r in rr if "picture" in r and id(r) not in seen]
         seen |= {id(r) for _, r in rr}
-    if pics:
-        n = len(pics)
-        cols = min(n, 3)
-        rows = int(math.ceil(n / cols))
-        fig, axes = plt.subplots(rows, cols, figsize=(5.5 * cols, 3.4 * rows), squeeze=False)
-        for ax, (st, sn, r) in zip(axes.flat, pics):
-            _specimen(ax, r, f"{st}, sn {sn / MPA:g} MPa: end of test at shear displacement "
-                             f"{1e3 * r['curve'][-1, 0]:.2f} mm\n(peak at "
-                             f"{1e3 * r['disp_at_peak']:.2f} mm)")
-        for ax in list(axes.flat)[n:]:
-            ax.axis("off")
-        fig.suptitle("direct-shear specimens after the peak: blocks coloured by displacement, "
-                     "joints black, cracks red tension / blue shear", fontsize=9)
-        fig.tight_layout()
-        res.figures["shear_specimens"] = fig
+    if not pics:
+        return
+    n = len(pics)
+    cols = min(n, 3)
+    rows = int(math.ceil(n / cols))
+    fig, axes = plt.subplots(rows, cols, figsize=(5.5 * cols, 3.4 * rows), squeeze=False)
+    for ax, (st, sn, r) in zip(axes.flat, pics):
+        _specimen(ax, r, f"{st}, sn {sn / MPA:g} MPa: end of test at shear displacement "
+                         f"{1e3 * r['curve'][-1, 0]:.2f} mm\n(peak at "
+                         f"{1e3 * r['disp_at_peak']:.2f} mm)")
+    for ax in list(axes.flat)[n:]:
+        ax.axis("off")
+    fig.suptitle("direct-shear specimens after the peak: blocks coloured by displacement, "
+                 "joints black, cracks red tension / blue shear", fontsize=9)
+    fig.tight_layout()
+    res.figures["shear_specimens"] = fig
 
-    if "accuracy" in dem:
-        rows = dem["accuracy"]["rows"]
-        fig, ax = plt.subplots(figsize=(6, 4))
-        for key, lab_, mk in (("ucs", "UCS", "o"), ("shear", "shear peak, sn 1.2 MPa", "s")):
-            t = [r[f"{key}_runtime_s"] for r in rows]
-            e = [max(r[f"{key}_rel_error"], 1e-4) for r in rows]
-            ax.loglog(t, e, mk, label=lab_)
-            for r, ti, ei in zip(rows, t, e):
-                tag = f"{r['edge_m'] * 1e3:g} mm" + ("" if r["safety"] == 0.5 else
-                                                    f", sf {r['safety']:g}")
-                ax.annotate(tag, (ti, ei), fontsize=6)
-                if abs(r["edge_m"] - 0.007) < 1e-9 and r["safety"] == 0.5:
-                    ax.plot(ti, ei, "r*", ms=12)
-        ax.set_xlabel("run time (s)")
-        ax.set_ylabel("relative difference from the finest run")
-        ax.set_title("error against run time (red star: thesis 7 mm)")
-        ax.legend(fontsize=7)
-        res.figures["error_vs_runtime"] = fig
-        res.curves["error_vs_runtime"] = Curve(
-            ["edge_m", "safety", "ucs_mpa", "ucs_runtime_s", "ucs_rel_error", "shear_mpa",
-             "shear_runtime_s", "shear_rel_error"],
-            np.array([[r["edge_m"], r["safety"], r["ucs_mpa"], r["ucs_runtime_s"],
-                       r["ucs_rel_error"], r["shear_mpa"], r["shear_runtime_s"],
-                       r["shear_rel_error"]] for r in rows]))
+
+def _accuracy_figure(res, rows):
+    """Error against run time of the UCS and a shear peak over block sizes and steps."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for key, lab_, mk in (("ucs", "UCS", "o"), ("shear", "shear peak, sn 1.2 MPa", "s")):
+        t = [r[f"{key}_runtime_s"] for r in rows]
+        e = [max(r[f"{key}_rel_error"], 1e-4) for r in rows]
+        ax.loglog(t, e, mk, label=lab_)
+        for r, ti, ei in zip(rows, t, e):
+            tag = f"{r['edge_m'] * 1e3:g} mm" + ("" if r["safety"] == 0.5 else
+                                                f", sf {r['safety']:g}")
+            ax.annotate(tag, (ti, ei), fontsize=6)
+            if abs(r["edge_m"] - 0.007) < 1e-9 and r["safety"] == 0.5:
+                ax.plot(ti, ei, "r*", ms=12)
+    ax.set_xlabel("run time (s)")
+    ax.set_ylabel("relative difference from the finest run")
+    ax.set_title("error against run time (red star: thesis 7 mm)")
+    ax.legend(fontsize=7)
+    res.figures["error_vs_runtime"] = fig
+    res.curves["error_vs_runtime"] = Curve(
+        ["edge_m", "safety", "ucs_mpa", "ucs_runtime_s", "ucs_rel_error", "shear_mpa",
+         "shear_runtime_s", "shear_rel_error"],
+        np.array([[r["edge_m"], r["safety"], r["ucs_mpa"], r["ucs_runtime_s"],
+                   r["ucs_rel_error"], r["shear_mpa"], r["shear_runtime_s"],
+                   r["shear_rel_error"]] for r in rows]))
 
 
 def _specimen(ax, run, title):
