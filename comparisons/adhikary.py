@@ -224,9 +224,8 @@ def experiment_paths(p: "scene.AdhikaryParams | None" = None):
     toe = scene.face(p)[0]
     lines = []
     for angle in REFERENCE["experiment_rupture_angle_above_joint_normal_deg"]:
-        unit = path_at_angle(toe, p.joint_dip, angle, 1.0, inward=-1.0, dip_direction="left")
-        lines.append(path_at_angle(toe, p.joint_dip, angle, toe[0] / abs(unit[1, 0] - toe[0]),
-                                   inward=-1.0, dip_direction="left"))
+        a, b = path_at_angle(toe, p.joint_dip, angle, 1.0, inward=-1.0, dip_direction="left")
+        lines.append(np.array([a, a + (b - a) * toe[0] / (a[0] - b[0])]))   # to x = 0
     return "experiment's fracture path, 12-20 deg above the bed normal", lines
 
 
