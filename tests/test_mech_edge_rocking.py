@@ -9,9 +9,9 @@ A tall block, b = 0.5 m wide and h = 1 m high, on a fixed base, undamped:
 - at 30 degrees with friction 20 it slides with a = g (sin 30 - cos 30 tan 20), the heel
   lifted all the while.
 
-The energy account of the heel-lifted block is a strict xfail on edge elements (2026-12-01):
-its law books friction at the closed end's own limit over half the edge (docs/history.md,
-"The half-open edge element made energy; edge elements the default").
+The closed end of a half-open edge does its friction work over x0 / 2, the length the edge
+transmits its shear stress over (``forces._work_length``; docs/mechanics.md, "The energy
+account").
 """
 import math
 import sys
@@ -45,11 +45,16 @@ def test_a_rocking_block_that_cannot_topple_gains_no_energy(edge_elements):
         external.append(e["external"])
     assert lifted > 10                          # it does rock on its toe (the heel lifts)
     assert rocking < 5e-3                       # bounded, far from toppling
-    # (it walks down the plane, 7 mm in 20 s on edge elements, 1 cm in 14 s on end springs,
-    # with more energy lost than the account books: docs/mechanics.md, "Not done yet")
     # no energy made: the balance (external work minus what is stored or spent) never falls
     # below zero by more than 2 % of the largest external work
     assert min(balance) > -0.02 * max(np.abs(external))
+    # (it walks down the plane, 7 mm in 20 s on edge elements, 1 cm in 14 s on end springs,
+    # losing more energy than the account books: 0.32 / 0.22 of the external work at 20 s,
+    # 0.65 / 0.63 before the shear let go where a contact opens or an edge's compressed length
+    # shrinks was booked; the rest is not traced: step by step it shows where the heel closes
+    # and where it slips, and partly cancels over the elastic steps: docs/mechanics.md, "The
+    # energy account")
+    assert balance[-1] < 0.4 * external[-1]
 
 
 def sliding_tall_block(edge_elements):
@@ -72,12 +77,9 @@ def test_a_block_sliding_with_its_heel_lifted_keeps_coulomb_acceleration(edge_el
     assert a == pytest.approx(expected, rel=0.02)   # measured +0.19 % / +1.4 %
 
 
-@pytest.mark.parametrize("edge_elements", [
-    pytest.param(True, marks=pytest.mark.xfail(strict=True, reason=(
-        "measured 2026-12-01: closure 0.63 (end springs 2e-5): the closed end's law books "
-        "friction work at its own limit, tan(phi) times its peak stress over its half of the "
-        "edge, while the edge transmits that stress over x0 / 2 only (the spread shear above)"))),
-    False])
+@pytest.mark.parametrize("edge_elements", [True, False])
 def test_a_block_sliding_with_its_heel_lifted_closes_the_energy_account(edge_elements):
+    # measured 2026-12-02: 7.8e-4 on edge elements (0.63 when the closed end's work was booked
+    # over half the edge), 2.6e-5 on end springs
     _, closure = sliding_tall_block(edge_elements)
     assert closure < 1e-3

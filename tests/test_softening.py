@@ -126,6 +126,21 @@ def law(material, du_n, du_s, state=(0.0, 0.0, 0.0)):
     return coulomb_law(du_n, du_s, sn_e, ts, material.kn, material.ks, table, 0, 0, kappa)
 
 
+def test_a_joint_that_opens_within_a_step_books_its_shear_springs_energy():
+    """An unbonded joint in compression carrying a shear stress below its friction limit,
+    opened within one step: the shear spring's energy ts^2 / 2ks leaves the model as friction
+    work (the slip its limit, falling with the normal stress, would have made), so the account
+    does not lose it (until 2026-12-02 it did: docs/mechanics.md, "The energy account")."""
+    joint = Material(kn=KN, ks=KN, friction=40.0)
+    ts = 0.5e6                                           # tan 40 x 1 MPa = 0.84 MPa: elastic
+    sn, t, sn_e, slip, event, kappa, w_f, w_fr = law(joint, 2.0e6 / KN, 0.0, (1.0e6, ts, 0.0))
+    assert event == 4 and sn == 0.0 and t == 0.0
+    assert w_f == 0.0
+    assert w_fr == pytest.approx(ts * ts / (2 * KN), rel=1e-12)
+    # and a joint already open books nothing more
+    assert law(joint, 1.0e-6, 0.0, (sn_e, 0.0, 0.0))[7] == 0.0
+
+
 @pytest.mark.parametrize("shape", ["linear", "hordijk"])
 def test_the_traction_follows_the_curve_and_its_area_is_G(shape):
     flaw = row_material(G_I=100.0, shape=shape)

@@ -154,8 +154,9 @@ def contact_update(k, c, strength, s, rnd, zones):
     if event != 0:                         # (rare: the elastic path writes no more than this)
         c.up[k] += slip
         c.damage[k] = kappa
-        c.work_fracture[k] += c.length[k] * w_frac
-        c.work_friction[k] += c.length[k] * w_fric
+        lw = _work_length(k, c)
+        c.work_fracture[k] += lw * w_frac
+        c.work_friction[k] += lw * w_fric
         if event == 1 or event == 2:
             c.broken[k] = event
         _reanchor(k, c, s, xa, ya, xb, yb, reach, nx, ny)
@@ -168,6 +169,21 @@ def contact_update(k, c, strength, s, rnd, zones):
         px, py = xf + rnd.radius * nx, yf + rnd.radius * ny
     L = c.length[k]
     return L * (s_n * nx - t_s * ny), L * (s_n * ny + t_s * nx), px, py, event
+
+
+@njit(cache=True, inline="always")
+def _work_length(k, c):
+    """Length (m) over which contact k's stresses do plastic work: its own length, or, where k
+    is the closed end of an edge whose other end was open at the last step, x0 / 2 (x0 the
+    compressed length, ``Contacts.edge_x0``): the edge transmits k's shear stress t as the
+    triangle's resultant t x0 / 2 (module docstring), and a rigid block slips the same along
+    the whole edge, so its friction work is t x0 / 2 times the slip, not t L_k times it."""
+    p = c.partner[k]
+    if p >= 0:
+        x0 = c.edge_x0[k]
+        if x0 > 0.0 and c.edge_x0[p] == 0.0:
+            return 0.5 * x0
+    return c.length[k]
 
 
 @njit(cache=True, inline="always")
@@ -223,15 +239,13 @@ def edge_share(k, c, s, xk, yk, xp, yp):
         lk = c.length[k]
         dk, dp, dt, dtp = (rk - 1.0) * lk * sk, rp * lk * sk, (rk - 1.0) * lk * c.ts[k], \
             rp * lk * c.ts[k]
-        _grown(k, c, 2.0 * (rk + rp) * lk)
-        c.edge_x0[p] = 0.0
+        _half_open(k, p, c, 2.0 * (rk + rp) * lk)
     elif closed_p and sp > 0.0:          # k open
         rp, rk = _open_end(sp, c.sn_elastic[k], le, c.length[p])
         lp = c.length[p]
         dp, dk, dtp, dt = (rp - 1.0) * lp * sp, rk * lp * sp, (rp - 1.0) * lp * c.ts[p], \
             rk * lp * c.ts[p]
-        _grown(p, c, 2.0 * (rp + rk) * lp)
-        c.edge_x0[k] = 0.0
+        _half_open(p, k, c, 2.0 * (rp + rk) * lp)
     else:
         c.edge_x0[k], c.edge_x0[p] = 0.0, 0.0
         return 0.0, 0.0, 0.0, 0.0
@@ -244,6 +258,21 @@ def edge_share(k, c, s, xk, yk, xp, yp):
     ma = ((xk - s.pos[a, 0]) * fky - (yk - s.pos[a, 1]) * fkx
           + (xp - s.pos[a, 0]) * fpy - (yp - s.pos[a, 1]) * fpx)
     return fkx + fpx, fky + fpy, mb, ma
+
+
+@njit(cache=True, inline="always")
+def _half_open(q, o, c, x0):
+    """Edge with closed end q and open end o, its compressed length now x0 (m). Where it was
+    half open at the last step too and x0 shrank from x_old, the shear on the part that opened
+    is let go at q's stress t (module docstring): the edge's elastic shear energy, x0 t^2 /
+    (6 ks) (``monitor.strain_energy``), falls by (x_old - x0) t^2 / (6 ks) with no work done,
+    booked as friction work. Then ``_grown``; o's x0 is 0."""
+    x_old = c.edge_x0[q]
+    if x0 < x_old and c.edge_x0[o] == 0.0:
+        t = c.ts[q]
+        c.work_friction[q] += t * t * (x_old - x0) / (6.0 * c.ks[q])
+    _grown(q, c, x0)
+    c.edge_x0[o] = 0.0
 
 
 @njit(cache=True, inline="always")

@@ -100,7 +100,9 @@ def coulomb_law(du_n, du_s, sn_e, ts, kn, ks, strength, m, broken, kappa):
         if bond:                   # the springs let go their energy at the cut-off
             return 0.0, 0.0, sn_e, du_s - ts / ks, TENSION_FAILURE, kappa, \
                 0.5 * (T * T / kn + ts * ts / ks), 0.0
-        return 0.0, 0.0, sn_e, du_s - ts / ks, OPEN, kappa, 0.0, 0.0
+        # the shear spring's energy goes with it: the slip a friction limit falling to zero
+        # with the normal stress would have made within the step
+        return 0.0, 0.0, sn_e, du_s - ts / ks, OPEN, kappa, 0.0, 0.5 * ts * ts / ks
     tau_max = c + sn_e * tanphi
     if tau_max < 0.0:
         tau_max = 0.0
