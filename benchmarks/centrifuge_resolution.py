@@ -97,9 +97,14 @@ def member(edge: float, seed: int = 1, tensile_mpa: float | None = None,
 
 
 def _scene_edge_elements(case: str) -> bool:
-    """Whether the case's scene runs its shared edges as linear elements by default."""
+    """Whether the case's scene runs its shared edges as linear elements by default: its
+    solver's ``edge_elements``, else the library's default (``SolverOptions``: edge elements
+    where every block is rigid; until 2026-12-02 a scene that named none was reported as end
+    springs, e.g. Longtan since its scene left the choice to the default)."""
     spec = CASES[case]
-    return bool(spec["module"].scene.scene(spec["params"]()).solver.get("edge_elements"))
+    solver = spec["module"].scene.scene(spec["params"]()).solver
+    value = solver.get("edge_elements")
+    return not solver.get("deformable") if value is None else bool(value)
 
 
 def run_member(m: dict) -> dict:

@@ -1,0 +1,20 @@
+"""benchmarks/centrifuge_resolution.py reports the contact model each run used: a scene that
+names none runs the library's default (edge elements on rigid blocks), and the report must
+say so (until 2026-12-02 it said end springs for Longtan, whose scene leaves the choice to
+the default)."""
+import sys
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+import centrifuge_resolution as cr  # noqa: E402  (benchmarks/centrifuge_resolution.py)
+from dem_core.workflow.scene import build_model  # noqa: E402
+
+
+@pytest.mark.parametrize("case", ["longtan", "adhikary"])
+def test_the_reported_contact_model_is_the_one_the_model_runs(case):
+    spec = cr.CASES[case]
+    params = spec["params"](edge_length=0.012)          # coarse: only the settings matter
+    model = build_model(spec["module"].scene.scene(params))
+    assert cr._scene_edge_elements(case) == model.options.edge_elements
