@@ -195,41 +195,73 @@ def _model_label(r: dict) -> str:
     return f"{label}, G_I {G:g} J/m2" if G else label
 
 
+def across_tensile(rows: list) -> bool:
+    """Whether the rows are a T study (several flaw T at one block edge: failure g is drawn
+    against T, one series per tessellation and contact model) rather than a block-size
+    study (failure g against the block edge, one series per contact model)."""
+    return (len({r["flaw_tensile_mpa"] for r in rows}) > 1
+            and len({r["edge_m"] for r in rows}) == 1)
+
+
+def _series(rows: list, by_seed: bool) -> dict:
+    """Series label -> its rows with a failure g (contact model, and the seed if asked)."""
+    out = {}
+    for r in rows:
+        if r["failure_g"]:
+            label = _model_label(r) + (f", seed {r['seed']}" if by_seed else "")
+            out.setdefault(label, []).append(r)
+    return out
+
+
 def summary_figure(rows: list, path: Path) -> None:
     """Left: failure g (bar from the last stable level) against block edge, one series per
-    contact model, each point labelled with its run time, the references as lines. Right: each
-    run's failure g against its run time. Rows of one case and one T (the base run's)."""
+    contact model, or against the flaw T for a T study (``across_tensile``), one series per
+    tessellation; each point labelled with its run time, the references as lines. Right:
+    each run's failure g against its run time."""
     import matplotlib.pyplot as plt
 
     case = rows[0].get("case", "adhikary")
     spec = CASES[case]
+    t_study = across_tensile(rows)
+    x_of = (lambda r: r["flaw_tensile_mpa"]) if t_study else (lambda r: 1e3 * r["edge_m"])
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(10, 4.2))
-    models = sorted({_model_label(r) for r in rows})
-    for i, label in enumerate(models):
-        sel = sorted((r for r in rows if _model_label(r) == label and r["failure_g"]),
-                     key=lambda r: r["edge_m"])
-        mm = np.array([1e3 * r["edge_m"] for r in sel])
+    for i, (label, sel) in enumerate(sorted(_series(rows, t_study).items())):
+        sel = sorted(sel, key=x_of)
+        x = np.array([x_of(r) for r in sel])
         hi = np.array([r["failure_g"] for r in sel], float)
         lo = np.array([r["last_stable_g"] or 0.0 for r in sel], float)
         t = np.array([r["seconds"] for r in sel])
         colour = f"C{i}"
-        ax.errorbar(mm, hi, yerr=[hi - lo, 0 * hi], fmt="o-", color=colour, capsize=3,
+        ax.errorbar(x, hi, yerr=[hi - lo, 0 * hi], fmt="o-", color=colour, capsize=3,
                     label=label)
-        for x, y, s in zip(mm, hi, t):
-            ax.annotate(f"{s:.0f} s", (x, y), textcoords="offset points", xytext=(4, 4),
+        for xi, y, s in zip(x, hi, t):
+            ax.annotate(f"{s:.0f} s", (xi, y), textcoords="offset points", xytext=(4, 4),
                         fontsize=7, color=colour)
         bx.plot(t, hi, "o", color=colour, label=label)
-        for x, y, e in zip(t, hi, mm):
-            bx.annotate(f"{e:g} mm", (x, y), textcoords="offset points", xytext=(4, 4),
-                        fontsize=7, color=colour)
+        for xi, y, r in zip(t, hi, sel):
+            tag = f"T {r['flaw_tensile_mpa']:g}" if t_study else f"{1e3 * r['edge_m']:g} mm"
+            bx.annotate(tag, (xi, y), textcoords="offset points", xytext=(4, 4), fontsize=7,
+                        color=colour)
     exp = np.atleast_1d(spec["experiment"])
     for axis in (ax, bx):
         axis.axhspan(exp.min() - 0.5, exp.max() + 0.5, color="0.85", label="experiment")
-        axis.axhline(spec["thesis"], color="k", ls="--", label="thesis UDEC-DM")
         axis.set_ylabel("failure g (bar: from the last stable level)")
         axis.set_ylim(0, None)
-    ax.set_xlabel("block edge (mm)")
-    ax.invert_xaxis()
+    if t_study:                # the thesis's UDEC-DM at its base T
+        ax.plot([spec["tensile"]], [spec["thesis"]], "s", color="k",
+                label=f"thesis UDEC-DM (T {spec['tensile']:g} MPa)")
+        bx.axhline(spec["thesis"], color="k", ls="--", label="thesis UDEC-DM")
+        ax.set_xlabel("flaw tensile strength T (MPa)")
+        ax.set_title(f"{case.capitalize()} centrifuge, damage model, {1e3 * rows[0]['edge_m']:g}"
+                     " mm blocks: failure g against T", fontsize=10)
+    else:
+        for axis in (ax, bx):
+            axis.axhline(spec["thesis"], color="k", ls="--", label="thesis UDEC-DM")
+        ax.set_xlabel("block edge (mm)")
+        ax.invert_xaxis()
+        T = rows[0]["flaw_tensile_mpa"]
+        ax.set_title(f"{case.capitalize()} centrifuge, damage model, T = {T:g} MPa: block size",
+                     fontsize=10)
     bx.set_xscale("log")
     from matplotlib.ticker import NullFormatter, ScalarFormatter
     bx.xaxis.set_major_formatter(ScalarFormatter())
@@ -238,10 +270,7 @@ def summary_figure(rows: list, path: Path) -> None:
                    if 0.5 * min(r["seconds"] for r in rows) <= t <= 2 * max(r["seconds"]
                                                                           for r in rows)])
     bx.set_xlabel("run time (s, one core)")
-    ax.legend(fontsize=8, loc="lower left")
-    T = rows[0]["flaw_tensile_mpa"]
-    ax.set_title(f"{case.capitalize()} centrifuge, damage model, T = {T:g} MPa: block size",
-                 fontsize=10)
+    ax.legend(fontsize=8, loc="lower left" if not t_study else "upper left")
     bx.set_title("failure g against run time", fontsize=10)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
