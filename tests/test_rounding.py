@@ -46,7 +46,8 @@ def sliding_scene(**options):
 
 def test_zero_rounding_is_the_sharp_model_to_the_bit():
     ref = np.load(REFERENCE)
-    m = sliding_scene(rounding=0.0)
+    # the reference predates the division of interfaces: the contact lengths as made
+    m = sliding_scene(rounding=0.0, divide_interfaces=False)
     m.cycle(2500)             # the tilted block slides off the base's end and falls
     c = m.contacts
     for name, now in (("force", m.state.force), ("pos", m.state.pos),
