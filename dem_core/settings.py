@@ -71,8 +71,9 @@ class SolverOptions:
     rounding : corner rounding radius d, m (0: sharp corners; ``contact.rounding``).
     divide_interfaces : at each contact search, divide every interface whose contacts have
         changed or slid among them from the current geometry (``contact.division``), and cut
-        a new contact's length to the face it touches; False (the default for now): lengths
-        as made (docs/mechanics.md, "Contact lengths after sliding", gives why).
+        a new contact's length to the face it touches (the default since 2026-12-02); False:
+        lengths as made and never divided, the default before (docs/mechanics.md, "Contact
+        lengths after sliding", gives the numbers it moved).
     deformable : {block group or "*": zone size m} (None: rigid blocks; ``deformable``).
     zone_strength : {block group or "*": dict(cohesion=Pa, friction=deg, dilation=deg,
         tensile_strength=Pa)} Mohr-Coulomb zones (needs ``deformable``).
@@ -94,7 +95,7 @@ class SolverOptions:
     kinetic_adaptive: bool = True
     edge_elements: bool | None = None
     rounding: float = 0.0
-    divide_interfaces: bool = False
+    divide_interfaces: bool = True
     deformable: dict | None = None
     zone_strength: dict | None = None
 

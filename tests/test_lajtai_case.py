@@ -66,14 +66,17 @@ def test_envelope_is_non_linear(quick):
 
 
 def test_higher_flaw_tensile_strength_gives_a_higher_envelope(quick):
-    """Higher where tension governs (lowest normal stress) by more than the 2 % run-to-run
-    scatter, never lower elsewhere (at high normal stress both envelopes approach the
-    frictional part). Measured at 0.3 MPa: 1.04 against 1.00 MPa since the incremental law
-    (2026-11-24), 1.07 against 0.97 before it (the test then asked for 5 %)."""
+    """Higher where tension governs (lowest normal stress) by more than 3 %; elsewhere not
+    lower by more than the scatter between two specimens (at high normal stress both
+    envelopes approach the frictional part, and which bond breaks first then decides).
+    Measured at 0.3 / 1.2 / 2.4 MPa: T = 1 over T = 0.5 is 1.10 / 0.968 / 0.997 with the
+    interfaces divided (the default since 2026-12-02; seed 2: 0.992 at 1.2 MPa), 1.04 at
+    0.3 MPa with lengths as made; the two seeds' intact points at 1.2 MPa differ by 5-7 %
+    (docs/mechanics.md, "Contact lengths after sliding"), hence 5 %."""
     _, lo = env(quick, "tensile_T0.5")
     _, hi = env(quick, "tensile_T1")
     assert hi[0] > 1.03 * lo[0]
-    assert np.all(hi >= 0.98 * lo)
+    assert np.all(hi >= 0.95 * lo)
 
 
 def test_strength_does_not_increase_with_persistence(quick):

@@ -87,14 +87,18 @@ def test_calibrate_cohesion_on_a_monotone_and_a_floored_response():
 
 
 def test_calibration_reproduces_its_own_target_ucs_on_a_voronoi_specimen():
-    """Target: the UCS the quick specimen gives at c = 0.3 MPa; start from c = 1.2 MPa.
+    """Target: the UCS the quick specimen gives at c = 0.6 MPa; start from c = 1.2 MPa.
 
-    (The UCS of these specimens responds weakly to c, docs/comparisons.md ## lajtai: the
-    target is within reach but a wide band of c meets it.)"""
+    The UCS of these specimens responds weakly to c above 0.3 MPa (docs/comparisons.md
+    ## lajtai: a wide band of c meets the target) and is neither smooth nor monotone below
+    it. With the interfaces divided (the default since 2026-12-02): 4.63, 4.59, 5.21, 5.46,
+    5.48 MPa at c = 0.2, 0.25, 0.3, 0.35, 0.4 MPa, so a target taken at 0.3 MPa sits on a
+    jump's edge and six secant or regula-falsi runs do not reach it to 3 %. The target is
+    taken on the continuous part of the curve."""
     base = dict(test="ucs", edge=0.007, tensile=scene.THESIS_TENSILE, friction=37.0,
                 kn=scene.THESIS_KN, ks=scene.THESIS_KS, seed=1, rate=3e-7, max_strain=0.02)
     run = lambda c: ucs_member({**base, "cohesion": c})["peak"]  # noqa: E731
-    target = run(0.3e6)
+    target = run(0.6e6)
     cal = lab.calibrate_cohesion(run, target, 1.2e6, rel_tol=0.03, max_runs=6)
     assert cal["converged"], cal["history"]
     assert run(cal["cohesion"]) == pytest.approx(target, rel=0.05)     # rerun: reproducible
