@@ -65,7 +65,7 @@ DRIFT = 1e-3
 ALONG = 0.98
 
 
-@njit(cache=True)
+@njit(cache=True, parallel=True)   # no prange: the records' reference counting dropped (below)
 def _stations(c, s, rnd, pts, nrm):
     """World station (the force's point, m) and unit normal of every live contact."""
     for k in range(c.count[0]):
