@@ -191,6 +191,8 @@ def _model_label(r: dict) -> str:
     if r.get("zone_m"):
         return f"deformable blocks, {1e3 * r['zone_m']:g} mm zones"
     label = "edge elements" if r.get("edge_elements") else "end springs (default)"
+    if (r.get("solver") or {}).get("divide_interfaces") is False:
+        label += ", lengths as made"        # the default before 2026-12-02
     G = r.get("fracture_energy_I", 0.0)
     return f"{label}, G_I {G:g} J/m2" if G else label
 
@@ -225,7 +227,8 @@ def summary_figure(rows: list, path: Path) -> None:
     t_study = across_tensile(rows)
     x_of = (lambda r: r["flaw_tensile_mpa"]) if t_study else (lambda r: 1e3 * r["edge_m"])
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(10, 4.2))
-    for i, (label, sel) in enumerate(sorted(_series(rows, t_study).items())):
+    by_seed = t_study or len({r["seed"] for r in rows}) > 1
+    for i, (label, sel) in enumerate(sorted(_series(rows, by_seed).items())):
         sel = sorted(sel, key=x_of)
         x = np.array([x_of(r) for r in sel])
         hi = np.array([r["failure_g"] for r in sel], float)
