@@ -139,7 +139,7 @@ class Model:
         """The force components of the step, empty where the scene has none."""
         return Parts(gravity_bundle(self.gravity), loads_bundle(self.load),
                      water_bundle(self.water, self.contacts, self.state, self.table.names,
-                                  self.water_faces), self.cables, self.liners,
+                                  self.water_faces, self.corners), self.cables, self.liners,
                      servo_bundle(self.servo_groups))
 
     def integrator(self) -> Integrator:

@@ -68,7 +68,11 @@ class SolverOptions:
         where the scene has deformable blocks (edge elements are not built on zones yet);
         False: the end-spring pair everywhere (the default before 2026-12-01, three times
         too stiff and too strong in bending).
-    rounding : corner rounding radius d, m (0: sharp corners; ``contact.rounding``).
+    rounding : rounded corners (``contact.rounding``): "auto" (the default since 2026-12-02;
+        each block's corners rounded with 1 % of the model's median edge, less on a sliver;
+        sharp corners on deformable blocks, which do not take rounding yet), a radius d in m
+        for every corner, or 0: sharp corners (the default before; docs/mechanics.md,
+        "Corners that do not snag", gives the numbers it moved).
     divide_interfaces : at each contact search, divide every interface whose contacts have
         changed or slid among them from the current geometry (``contact.division``), and cut
         a new contact's length to the face it touches (the default since 2026-12-02); False:
@@ -94,7 +98,7 @@ class SolverOptions:
     kinetic_damping: int = 0
     kinetic_adaptive: bool = True
     edge_elements: bool | None = None
-    rounding: float = 0.0
+    rounding: float | str = "auto"
     divide_interfaces: bool = True
     deformable: dict | None = None
     zone_strength: dict | None = None
@@ -115,10 +119,15 @@ class SolverOptions:
         if self.step_estimate not in STEP_ESTIMATES:
             raise ValueError(f"step_estimate must be one of {STEP_ESTIMATES}, got "
                              f"{self.step_estimate!r}")
-        if self.step_estimate == "eigen" and (self.deformable is not None or self.rounding):
-            raise ValueError("step_estimate='eigen' is for rigid blocks with sharp corners; "
-                             f"got deformable={self.deformable!r}, rounding={self.rounding!r} "
-                             "(use 'bound')")
+        if isinstance(self.rounding, str) and self.rounding != "auto":
+            raise ValueError(f"rounding must be 'auto' or a length in m (>= 0), got "
+                             f"{self.rounding!r}")
+        if self.rounding == "auto" and self.deformable is not None:
+            # deformable blocks take no rounding yet (``deformable.setup``)
+            return dataclasses.replace(self, rounding=0.0).validated()
+        if self.step_estimate == "eigen" and self.deformable is not None:
+            raise ValueError("step_estimate='eigen' is for rigid blocks; got "
+                             f"deformable={self.deformable!r} (use 'bound')")
         if self.edge_elements is None:      # the default: edge elements on rigid blocks
             return dataclasses.replace(self, edge_elements=self.deformable is None).validated()
         if self.dt is not None and not (math.isfinite(self.dt) and self.dt > 0):

@@ -91,7 +91,7 @@ def test_corner_on_corner_pushes_along_the_line_of_the_centres():
     assert np.linalg.norm(force_on_high) > 0 and (high_is_b or not high_is_b)
     # the sharp model pushes along one block's face normal instead (45 deg off)
     sharp = Model(bs, {"flaw:*": Material(kn=KN, ks=KN, friction=30.0)}, density=2000,
-                  new_contact_material="flaw:rock", search_margin=0.02)
+                  new_contact_material="flaw:rock", search_margin=0.02, rounding=0.0)
     sharp.fix("low")
     sharp.fix("high")
     sharp.cycle(1)

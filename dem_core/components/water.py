@@ -3,7 +3,8 @@ contacts below it and on the exposed faces of blocks below it.
 
 A contact's springs carry the effective normal stress sn' (the law's ``sn``; strength, slip
 and cut-off work on it, ``law.py``); the water pushes its two blocks apart with p L along the
-normal (n from A into B: +p L n on B, -p L n on A), at A's contact point. A block face on the
+normal (n from A into B: +p L n on B, -p L n on A), at A's contact point (with rounded
+corners, a rounded contact's station: where its arc touches, ``contact.division``). A block face on the
 model's outer boundary, or bared by an excavation, gets the pressure's resultant
 -integral(p n_out ds) over its wetted part (p linear along the face, integrated exactly), at
 the resultant's point. The two together give a submerged block its buoyancy (gamma_w x
@@ -25,6 +26,8 @@ import numpy as np
 from numba import njit
 
 from ..contact.contacts import Contacts
+from ..contact.division import interface_stations
+from ..contact.rounding import rounded_rows
 from ..step.kinematics import body_point, contact_normal
 
 __all__ = ["Water", "add_water", "water_bundle", "no_water", "exposed_faces"]
@@ -32,7 +35,9 @@ __all__ = ["Water", "add_water", "water_bundle", "no_water", "exposed_faces"]
 
 class Water(NamedTuple):
     """contacts : the model's Contacts (the same arrays); contact (nw,) int64 rows of it below
-    the table; pressure (nw,) Pa; always (nw,) int8 (0: a flaw, wetted only once broken);
+    the table; pressure (nw,) Pa, read at point (nw, 2) m, in A's body frame, where the push
+    acts (A's contact point, or a rounded contact's station when the bundle was made);
+    always (nw,) int8 (0: a flaw, wetted only once broken);
     face_block (nf,) int64; face_p0, face_p1 (nf, 2) m, a face's ends in its block's body
     frame (counter-clockwise, so the outward normal is (dy, -dx) / L); surface (m, 2) m the
     table's polyline (held flat beyond its ends); unit_weight (1,) N/m^3."""
@@ -40,6 +45,7 @@ class Water(NamedTuple):
     contacts: Contacts
     contact: np.ndarray
     pressure: np.ndarray
+    point: np.ndarray
     always: np.ndarray
     face_block: np.ndarray
     face_p0: np.ndarray
@@ -50,17 +56,28 @@ class Water(NamedTuple):
 
 def no_water(contacts) -> Water:
     """The empty bundle: no water table."""
-    return Water(contacts, np.zeros(0, np.int64), np.zeros(0), np.zeros(0, np.int8),
+    return Water(contacts, np.zeros(0, np.int64), np.zeros(0), np.zeros((0, 2)),
+                 np.zeros(0, np.int8),
                  np.zeros(0, np.int64), np.zeros((0, 2)), np.zeros((0, 2)), np.zeros((2, 2)),
                  np.zeros(1))
 
 
-def water_bundle(table, contacts, state, material_names, faces) -> Water:
+def water_bundle(table, contacts, state, material_names, faces, corners=None) -> Water:
     """The bundle of ``table`` (WaterTable or None) for the live ``contacts`` at pose ``state``;
-    ``faces`` = (block, p0, p1) from ``exposed_faces``."""
+    ``faces`` = (block, p0, p1) from ``exposed_faces``; ``corners`` the Rounding (None:
+    sharp corners)."""
     if table is None:
         return no_water(contacts)
     xy = contacts.position(state.pos, state.rot)
+    local = contacts.point_a[:contacts.n].copy()
+    if corners is not None and corners.radius > 0.0:
+        rounded = rounded_rows(contacts, corners)
+        if rounded.size:
+            xy[rounded] = interface_stations(contacts, state, corners)[0][rounded]
+            a = contacts.block_a[rounded]
+            dx, dy = xy[rounded, 0] - state.pos[a, 0], xy[rounded, 1] - state.pos[a, 1]
+            cos_a, sin_a = state.rot[a, 0], state.rot[a, 1]
+            local[rounded] = np.column_stack([cos_a * dx + sin_a * dy, cos_a * dy - sin_a * dx])
     p = table.pressure(xy[:, 0], xy[:, 1])
     flaw = np.array([n.startswith("flaw:") for n in material_names] + [False], dtype=bool)
     mat = contacts.material[:contacts.n]
@@ -70,7 +87,8 @@ def water_bundle(table, contacts, state, material_names, faces) -> Water:
     s = table.surface
     surf = np.array([[-1.0, float(s)], [1.0, float(s)]]) if isinstance(s, (int, float)) \
         else np.asarray(s, dtype=np.float64)
-    return Water(contacts, rows.astype(np.int64), p[rows], always[rows], *faces, surf,
+    return Water(contacts, rows.astype(np.int64), p[rows], local[rows], always[rows], *faces,
+                 surf,
                  np.array([float(table.unit_weight)]))
 
 
@@ -152,7 +170,7 @@ def add_water(w, s, p):
         if w.always[r] == 0 and c.broken[k] == 0:
             continue
         a, b = c.block_a[k], c.block_b[k]
-        xa, ya = body_point(s.pos, s.rot, a, c.point_a[k, 0], c.point_a[k, 1])
+        xa, ya = body_point(s.pos, s.rot, a, w.point[r, 0], w.point[r, 1])
         nx, ny = contact_normal(s, a, b, c.face[k], c.normal_b[k, 0], c.normal_b[k, 1])
         f = w.pressure[r] * c.length[k]
         _push(s, b, f * nx, f * ny, xa, ya)

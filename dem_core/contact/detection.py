@@ -90,7 +90,7 @@ def _rounded_points(c, s, rows, rnd):
         _, _, nx, ny, u_n = rounded_contact(rnd, s, c.block_a[k], b, c.vertex_a[k],
                                             c.edge_b[k])
         xc, yc = corner_centre(rnd, s, c.block_a[k], c.vertex_a[k])
-        reach = u_n + 2.0 * rnd.radius
+        reach = u_n + rnd.arc[c.vertex_a[k]] + rnd.arc[c.edge_b[k]]
         c.point_b[k, 0], c.point_b[k, 1] = unrotate(s.rot, b, xc + reach * nx - s.pos[b, 0],
                                                     yc + reach * ny - s.pos[b, 1])
 
@@ -104,7 +104,8 @@ def _rounded_touches(s, cand, rnd):
     for i in range(cand.shape[0]):
         xc, yc, nx, ny, _ = rounded_contact(rnd, s, cand[i, 0], cand[i, 2], cand[i, 1],
                                             cand[i, 3])
-        points[i, 0], points[i, 1] = xc + rnd.radius * nx, yc + rnd.radius * ny
+        d = rnd.arc[cand[i, 1]]
+        points[i, 0], points[i, 1] = xc + d * nx, yc + d * ny
         normals[i, 0], normals[i, 1] = nx, ny
     return points, normals
 
@@ -345,7 +346,8 @@ def _survives_kernel(c, s, p, edge_end, bonded, wv, margin, slope, rnd):
         xb, yb = body_point(s.pos, s.rot, b, c.point_b[k, 0], c.point_b[k, 1])
         if is_rounded(rnd, c, k):
             xa, ya, nx, ny, gap = rounded_contact(rnd, s, a, b, c.vertex_a[k], c.edge_b[k])
-            px[k], py[k] = xa + rnd.radius * nx, ya + rnd.radius * ny    # the touch
+            d = rnd.arc[c.vertex_a[k]]
+            px[k], py[k] = xa + d * nx, ya + d * ny          # the touch
         else:
             xa, ya = body_point(s.pos, s.rot, a, c.point_a[k, 0], c.point_a[k, 1])
             nx, ny = contact_normal(s, a, b, c.face[k], c.normal_b[k, 0], c.normal_b[k, 1])

@@ -9,8 +9,8 @@ Sorted along its tangent t by their stations s (the point each contact's force a
     L_1 = (s_1 + s_2) / 2 - lo,   L_i = (s_{i+1} - s_{i-1}) / 2,   L_m = hi - (s_{m-1} + s_m) / 2
 
 so the lengths sum to hi - lo whatever the blocks have slid. The stretch is the stations' own,
-s_1 to s_m, carried on to where the two blocks' faces along the line stop overlapping (their
-straight parts, with rounded corners), by at most the search margin: an end of the overlap
+s_1 to s_m, carried on to where the two blocks' faces along the line stop overlapping (the
+faces' ends at the vertices, with rounded corners too), by at most the search margin: an end of the overlap
 farther out would have a contact of its own (a vertex on a face), unless the faces are open
 there. A stretch is no shorter than the search margin (faces meeting end to end, or a corner
 found within the margin before the faces overlap). Contacts closer than the search margin are
@@ -31,6 +31,12 @@ in a lab specimen of millimetre blocks is several per cent of an edge). The shar
 halves (the overlap up to the elastic displacement), so the model's stored answers stay bit
 for bit where nothing has slid. Between searches no block moves more than half the search
 margin, so a contact in compression stands for its stretch to within the margin at each end.
+
+Rounded corners (``rounding``) set a contact's normal, gap and station, not the length of the
+interface: a rounded block touches only along its straight parts, d_A + d_B short of the faces'
+overlap, and counting that would take (d_A + d_B) / L of every slid joint's cohesion, tension
+and water force away (on the cross-jointed field slope 0.5-0.9 % of F). The arcs are a device
+for the normal at corners (Cundall 1988); the joint's area is the rock's.
 
 What a contact keeps: its stresses (sn, ts, the elastic normal stress), plastic slip, crack
 state and material stay with its point; only the length it stands for changes, so forces
@@ -72,7 +78,8 @@ def _stations(c, s, rnd, pts, nrm):
         a, b = c.block_a[k], c.block_b[k]
         if is_rounded(rnd, c, k):
             xc, yc, nx, ny, _ = rounded_contact(rnd, s, a, b, c.vertex_a[k], c.edge_b[k])
-            pts[k, 0], pts[k, 1] = xc + rnd.radius * nx, yc + rnd.radius * ny
+            d = rnd.arc[c.vertex_a[k]]
+            pts[k, 0], pts[k, 1] = xc + d * nx, yc + d * ny
         else:
             nx, ny = contact_normal(s, a, b, c.face[k], c.normal_b[k, 0], c.normal_b[k, 1])
             xa, ya = body_point(s.pos, s.rot, a, c.point_a[k, 0], c.point_a[k, 1])
@@ -97,12 +104,10 @@ def interface_stations(c, s, rnd=None):
 
 
 @njit(cache=True, inline="always")
-def _corner(p, s, rnd, blk, j):
-    """World point (m) of the end of a face at vertex j of block ``blk``: the vertex, or with
-    rounded corners the corner's centre (the straight part of a rounded face ends across from
-    it)."""
-    if rnd.radius > 0.0:
-        return body_point(s.pos, s.rot, blk, rnd.centre[j, 0], rnd.centre[j, 1])
+def _corner(p, s, blk, j):
+    """World point (m) of the end of a face at vertex j of block ``blk``: the vertex, with
+    rounded corners too (a joint's length is the rock's, not the rounded shapes' straight
+    parts: module docstring)."""
     return body_point(s.pos, s.rot, blk, p.local_vertices[j, 0], p.local_vertices[j, 1])
 
 
@@ -117,11 +122,11 @@ def _prev(p, blk, j):
 
 
 @njit(cache=True, inline="always")
-def _face_span(p, s, rnd, blk, j, tx, ty, x0, y0, lo, hi):
+def _face_span(p, s, blk, j, tx, ty, x0, y0, lo, hi):
     """(lo, hi) widened by the stations (along (tx, ty) from (x0, y0)) of the face of ``blk``
     from vertex j to the next, if that face lies along the line (within ``ALONG``)."""
-    xa, ya = _corner(p, s, rnd, blk, j)
-    xb, yb = _corner(p, s, rnd, blk, _next(p, blk, j))
+    xa, ya = _corner(p, s, blk, j)
+    xb, yb = _corner(p, s, blk, _next(p, blk, j))
     dx, dy = xb - xa, yb - ya
     ln = math.hypot(dx, dy)
     if ln == 0.0 or abs(dx * tx + dy * ty) < ALONG * ln:
@@ -132,7 +137,7 @@ def _face_span(p, s, rnd, blk, j, tx, ty, x0, y0, lo, hi):
 
 
 @njit(cache=True, inline="always")
-def _overlap(c, p, s, rnd, on, m, tx, ty, x0, y0):
+def _overlap(c, p, s, on, m, tx, ty, x0, y0):
     """(lo, hi) stations of the stretch where the two blocks' faces along the line overlap,
     from the faces the contacts ``on[:m]`` name (B's face or, at its corner, the face beyond;
     A's faces at its vertex that lie along the line); (inf, -inf) when either block's face
@@ -146,21 +151,21 @@ def _overlap(c, p, s, rnd, on, m, tx, ty, x0, y0):
         if e >= 0:
             for f in (e, _prev(p, b, e), _next(p, b, e)):
                 if b == first_block:
-                    lo0, hi0 = _face_span(p, s, rnd, b, f, tx, ty, x0, y0, lo0, hi0)
+                    lo0, hi0 = _face_span(p, s, b, f, tx, ty, x0, y0, lo0, hi0)
                 else:
-                    lo1, hi1 = _face_span(p, s, rnd, b, f, tx, ty, x0, y0, lo1, hi1)
+                    lo1, hi1 = _face_span(p, s, b, f, tx, ty, x0, y0, lo1, hi1)
         va = np.int64(c.vertex_a[k])
         if va >= 0:
             for f in (va, _prev(p, a, va)):
                 if a == first_block:
-                    lo0, hi0 = _face_span(p, s, rnd, a, f, tx, ty, x0, y0, lo0, hi0)
+                    lo0, hi0 = _face_span(p, s, a, f, tx, ty, x0, y0, lo0, hi0)
                 else:
-                    lo1, hi1 = _face_span(p, s, rnd, a, f, tx, ty, x0, y0, lo1, hi1)
+                    lo1, hi1 = _face_span(p, s, a, f, tx, ty, x0, y0, lo1, hi1)
     return max(lo0, lo1), min(hi0, hi1)
 
 
 @njit(cache=True, inline="always")
-def _divide_group(g0, g1, order, c, p, s, rnd, pts, nrm, margin, made, on, st, first):
+def _divide_group(g0, g1, order, c, p, s, pts, nrm, margin, made, on, st, first):
     """Divide one block pair's contacts ``order[g0:g1]`` (module docstring); ``made``: the
     pair holds a contact made by the search; ``on``, ``st``, ``first``: scratch of at least
     g1 - g0 (+ 1) entries. Returns whether a length changed."""
@@ -182,7 +187,7 @@ def _divide_group(g0, g1, order, c, p, s, rnd, pts, nrm, margin, made, on, st, f
     if m < 2 and not made:
         return False
     lo, hi = st[0], st[m - 1]
-    face_lo, face_hi = _overlap(c, p, s, rnd, on, m, tx, ty, x0, y0)
+    face_lo, face_hi = _overlap(c, p, s, on, m, tx, ty, x0, y0)
     known = face_hi - face_lo > -math.inf
     if m == 1 or hi - lo <= margin:
         # one station: a corner on a face keeps the length it was made with (half of its
@@ -259,7 +264,7 @@ warnings.filterwarnings("ignore", category=NumbaPerformanceWarning,
 
 
 @njit(cache=True, parallel=True)
-def _divide(order, keys, c, p, s, rnd, pts, nrm, margin, bond):
+def _divide(order, keys, c, p, s, pts, nrm, margin, bond):
     n = order.shape[0]
     widest, g0 = 1, 0                     # the largest pair: the scratch's size
     while g0 < n:
@@ -283,7 +288,7 @@ def _divide(order, keys, c, p, s, rnd, pts, nrm, margin, bond):
             made = made or c.broken[k] == UNBONDED
             held = held or (c.broken[k] == INTACT and bond[c.material[k]])
         if not held and (made or g1 - g0 >= 2) and \
-                _divide_group(g0, g1, order, c, p, s, rnd, pts, nrm, margin, made, on, st,
+                _divide_group(g0, g1, order, c, p, s, pts, nrm, margin, made, on, st,
                               first):
             changed = True
         g0 = g1
@@ -304,5 +309,5 @@ def divide_interfaces(c, s, p, bonded, rnd=None, margin=0.0) -> bool:
     a, b = c.block_a[:n].astype(np.int64), c.block_b[:n].astype(np.int64)
     keys = np.minimum(a, b) * p.mass.shape[0] + np.maximum(a, b)
     order = np.argsort(keys, kind="stable")
-    return bool(_divide(order, keys, c, p, s, rnd, pts, nrm, float(margin),
+    return bool(_divide(order, keys, c, p, s, pts, nrm, float(margin),
                         np.asarray(bonded, np.bool_)))

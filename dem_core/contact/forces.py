@@ -135,7 +135,8 @@ def contact_update(k, c, strength, s, rnd, zones):
     if rounded:                            # xa: A's corner centre (rounding.py)
         xf, yf, nx, ny, u_n = rounded_contact(rnd, s, a, b, c.vertex_a[k], c.edge_b[k])
         xa, ya = corner_centre(rnd, s, a, c.vertex_a[k])
-        reach = u_n + 2.0 * rnd.radius     # B's point sits this far across the normal
+        # B's point sits this far across the normal
+        reach = u_n + rnd.arc[c.vertex_a[k]] + rnd.arc[c.edge_b[k]]
     else:
         xa, ya, xb, yb = contact_points(k, c, s, zones, xb, yb)
         nx, ny = contact_normal(s, a, b, c.face[k], c.normal_b[k, 0], c.normal_b[k, 1])
@@ -166,7 +167,8 @@ def contact_update(k, c, strength, s, rnd, zones):
     px = xa if anchor == ANCHOR_A else (xb if anchor == ANCHOR_B else 0.5 * (xa + xb))
     py = ya if anchor == ANCHOR_A else (yb if anchor == ANCHOR_B else 0.5 * (ya + yb))
     if rounded:                            # on A's arc, or at B's corner on A's face
-        px, py = xf + rnd.radius * nx, yf + rnd.radius * ny
+        d = rnd.arc[c.vertex_a[k]]
+        px, py = xf + d * nx, yf + d * ny
     L = c.length[k]
     return L * (s_n * nx - t_s * ny), L * (s_n * ny + t_s * nx), px, py, event
 

@@ -1,15 +1,17 @@
 """Rounded corners (UDEC's corner rounding): a defined contact normal at corners.
 
 With ``Model(rounding=d)`` (d > 0, m) every corner of every block is a circular arc of radius
-d tangent to the two edges that meet there. The arc's centre (the corner's *centre*) is fixed
+d tangent to the two edges that meet there; with ``rounding="auto"`` (the default) each block
+has its own d (``block_roundings``: 1 % of the median edge, less on a sliver). The arc's centre (the corner's *centre*) is fixed
 in the block, on the corner's bisector, at distance d from both edge lines::
 
     c = v + d (m1 + m2) / (1 + m1 . m2)        v the vertex, m1, m2 the inward unit normals
                                                of its two edges (a right angle: c = v + d (1, 1))
 
 The rounded block is the polygon of its corner centres (its *core*: the block's edges moved
-inward by d) grown by d in every direction, so two rounded blocks are in contact when their
-cores are closer than 2 d, along the line of the cores' nearest points. A vertex contact
+inward by d) grown by d in every direction, so two rounded blocks A and B are in contact when
+their cores are closer than d_A + d_B, along the line of the cores' nearest points (below,
+2 d stands for d_A + d_B). A vertex contact
 (A's corner against B's face e, which runs from B's vertex e to vertex f) takes:
 
     x      = A's corner centre (world), C_e, C_f B's corner centres at the face's ends
@@ -30,15 +32,15 @@ n is the unit normal from A into B, u_n the opening (m, > 0 open, < 0 overlap) b
 rounded shapes, x the nearest point of A's core. n turns continuously: where the face ends
 (s = |C_f - C_e|) the line of centres is the face's normal, at the far side of the corner's
 wedge it is the next face's, and where B's corner reaches A's face it is that face's. The force
-acts on A's rounded boundary, at x + d n; the shear displacement is measured between x and
+acts on A's rounded boundary, at x + d_A n; the shear displacement is measured between x and
 B's point of the contact (``Contacts.point_b``, moved across the normal from x when the
 contact slips or opens), along t = (-n_y, n_x). The same pair of touching corners gives one
 contact whichever block the search calls A (``detection``: touch points and normals).
 
 Which contacts: those of a vertex against a face (``Contacts.face`` = 0: made by the search).
 The two contacts of a shared edge (``face`` = 1) keep their bisector normal: two faces lying
-on one another touch along their straight parts, where rounding changes nothing. d = 0 (the
-default) is the sharp-cornered model, bit for bit: the kernels read only the radius then.
+on one another touch along their straight parts, where rounding changes nothing. d = 0 is the
+sharp-cornered model, bit for bit: the kernels read only the radius then.
 
 References: Cundall, P. A. (1988), Formulation of a three-dimensional distinct element model,
 Part I, Int. J. Rock Mech. Min. Sci. 25(3), 107-116 (contact detection and the normal at
@@ -58,31 +60,38 @@ from numba import njit
 from ..step.kinematics import body_point, rotate, unrotate
 
 __all__ = ["Rounding", "no_rounding", "rounding_bundle", "corner_centres", "largest_rounding",
-           "is_rounded", "rounded_contact", "corner_centre", "follow_faces", "MAX_ROUNDING_FRACTION"]
+           "is_rounded", "rounded_contact", "corner_centre", "follow_faces", "MAX_ROUNDING_FRACTION",
+           "AUTO_FRACTION", "block_roundings", "rounded_rows"]
 
 # a rounding radius must leave every edge at least this fraction of the straight part the
 # sharpest rounding it can take would leave (``largest_rounding``): no edge vanishes
 MAX_ROUNDING_FRACTION = 0.5
+# ``rounding="auto"``: this fraction of the median edge length (UDEC advises about 1 %)
+AUTO_FRACTION = 0.01
 
 
 class Rounding(NamedTuple):
     """The corner geometry the contact kernels read (empty arrays: sharp corners).
 
-    radius : float, m. The arcs' radius d (0: sharp corners, the arrays are empty).
+    radius : float, m. The largest arc radius (0: sharp corners, the arrays are empty).
     centre : (nv, 2) float64, m. Each vertex's corner centre in its block's frame (relative
         to the centroid at theta = 0, like ``BlockProps.local_vertices``).
     next, prev : (nv,) int64. The next and previous vertex of the same block (CCW ring).
+    arc : (nv,) float64, m. The arc radius at each vertex: its block's d (one radius per
+        block, so a block's core is its edges moved in by that d).
     """
 
     radius: float
     centre: np.ndarray
     next: np.ndarray
     prev: np.ndarray
+    arc: np.ndarray
 
 
 def no_rounding() -> Rounding:
     """Sharp corners: the kernels take the vertex-against-face geometry."""
-    return Rounding(0.0, np.zeros((0, 2)), np.zeros(0, np.int64), np.zeros(0, np.int64))
+    return Rounding(0.0, np.zeros((0, 2)), np.zeros(0, np.int64), np.zeros(0, np.int64),
+                    np.zeros(0))
 
 
 def _rings(offsets):
@@ -105,22 +114,22 @@ def _inward_normals(local, nxt):
 
 def corner_centres(offsets, local, radius) -> np.ndarray:
     """(nv, 2) corner centres (m, block frame): v + d (m1 + m2) / (1 + m1 . m2), at distance
-    d from the lines of both edges at each vertex (module docstring)."""
+    d from the lines of both edges at each vertex (module docstring); ``radius`` one d for
+    every vertex or (nv,) one per vertex."""
     offsets = np.asarray(offsets, np.int64)
     local = np.asarray(local, np.float64)
     nxt, prv = _rings(offsets)
     m_out = _inward_normals(local, nxt)          # the edge leaving each vertex
     m_in = m_out[prv]                            # the edge arriving at it
     dot = (m_out * m_in).sum(axis=1)
-    return local + radius * (m_out + m_in) / (1.0 + dot)[:, None]
+    d = np.broadcast_to(np.asarray(radius, np.float64), dot.shape)
+    return local + (d / (1.0 + dot))[:, None] * (m_out + m_in)
 
 
-def largest_rounding(offsets, local):
-    """(d_max, block): the largest radius with which every edge keeps a straight part, i.e.
-    min over edges of L / (cot(a1 / 2) + cot(a2 / 2)) (a1, a2 the interior angles at its
-    ends), and the block that sets it."""
-    offsets = np.asarray(offsets, np.int64)
-    local = np.asarray(local, np.float64)
+def _edge_limits(offsets, local):
+    """(nv,) for the edge leaving each vertex: L / (cot(a1 / 2) + cot(a2 / 2)), the radius at
+    which rounding both its corners leaves no straight part (a1, a2 the interior angles at
+    its ends)."""
     nxt, prv = _rings(offsets)
     e = local[nxt] - local
     length = np.hypot(e[:, 0], e[:, 1])
@@ -128,32 +137,67 @@ def largest_rounding(offsets, local):
     cos_a = -(t[prv] * t).sum(axis=1)                  # interior angle at each vertex
     half = 0.5 * np.arccos(np.clip(cos_a, -1.0, 1.0))
     cot = np.cos(half) / np.maximum(np.sin(half), 1e-300)
-    limit = length / (cot + cot[nxt])
+    return length / (cot + cot[nxt])
+
+
+def largest_rounding(offsets, local):
+    """(d_max, block): the largest radius with which every edge keeps a straight part, i.e.
+    min over edges of L / (cot(a1 / 2) + cot(a2 / 2)) (a1, a2 the interior angles at its
+    ends), and the block that sets it."""
+    offsets = np.asarray(offsets, np.int64)
+    limit = _edge_limits(offsets, np.asarray(local, np.float64))
     j = int(np.argmin(limit))
     block = int(np.searchsorted(offsets, j, side="right") - 1)
     return float(limit[j]), block
 
 
+def block_roundings(offsets, local, fraction=None):
+    """(nb,) radius of each block for ``rounding="auto"`` (m): ``fraction`` of the median
+    edge length of all the blocks (UDEC's advice: about 1 % of the typical edge), and at most
+    ``MAX_ROUNDING_FRACTION`` of the block's own largest rounding (``largest_rounding``), so
+    a sliver keeps its edges and every other block gets the full radius (``fraction`` None:
+    ``AUTO_FRACTION``)."""
+    fraction = AUTO_FRACTION if fraction is None else fraction
+    offsets = np.asarray(offsets, np.int64)
+    local = np.asarray(local, np.float64)
+    nxt, _ = _rings(offsets)
+    e = local[nxt] - local
+    d = fraction * float(np.median(np.hypot(e[:, 0], e[:, 1])))
+    limit = np.minimum.reduceat(_edge_limits(offsets, local), offsets[:-1])
+    return np.minimum(d, MAX_ROUNDING_FRACTION * limit)
+
+
 def rounding_bundle(props, radius) -> Rounding:
-    """The Rounding of the blocks of ``props`` (BlockProps) with arcs of ``radius`` (m);
-    ValueError naming the value if it is not a finite length >= 0 or too large for the
-    blocks (above ``MAX_ROUNDING_FRACTION`` of ``largest_rounding``)."""
+    """The Rounding of the blocks of ``props`` (BlockProps): arcs of ``radius`` (m) at every
+    corner, or with ``"auto"`` each block's ``block_roundings``. ValueError naming the value
+    if it is not "auto" or a finite length >= 0, or a length too large for the blocks (above
+    ``MAX_ROUNDING_FRACTION`` of ``largest_rounding``)."""
+    offsets, local = props.vertex_offsets, props.local_vertices
+    if isinstance(radius, str) and radius == "auto":
+        per_block = block_roundings(offsets, local)
+        if per_block.size == 0 or not per_block.max() > 0.0:
+            return no_rounding()
+        arc = np.repeat(per_block, np.diff(offsets))
+        nxt, prv = _rings(offsets)
+        return Rounding(float(arc.max()), corner_centres(offsets, local, arc), nxt, prv, arc)
     try:
         d = float(radius)
     except (TypeError, ValueError):
-        raise ValueError(f"rounding must be a length in m (>= 0), got {radius!r}") from None
+        raise ValueError(f"rounding must be 'auto' or a length in m (>= 0), got "
+                         f"{radius!r}") from None
     if isinstance(radius, bool) or not math.isfinite(d) or d < 0.0:
-        raise ValueError(f"rounding must be a finite length >= 0 m, got {radius!r}")
+        raise ValueError(f"rounding must be 'auto' or a finite length >= 0 m, got {radius!r}")
     if d == 0.0:
         return no_rounding()
-    d_max, block = largest_rounding(props.vertex_offsets, props.local_vertices)
+    d_max, block = largest_rounding(offsets, local)
     if d > MAX_ROUNDING_FRACTION * d_max:
         raise ValueError(
             f"rounding {radius!r} m is too large for the blocks: at most "
             f"{MAX_ROUNDING_FRACTION * d_max:.4g} m ({MAX_ROUNDING_FRACTION:g} x "
             f"{d_max:.4g} m, the radius at which an edge of block {block} would vanish)")
-    nxt, prv = _rings(props.vertex_offsets)
-    return Rounding(d, corner_centres(props.vertex_offsets, props.local_vertices, d), nxt, prv)
+    nxt, prv = _rings(offsets)
+    return Rounding(d, corner_centres(offsets, local, d), nxt, prv,
+                    np.full(len(local), d))
 
 
 @njit(cache=True, inline="always")
@@ -161,6 +205,14 @@ def is_rounded(rnd, c, k):
     """True if contact k of ``c`` takes the rounded geometry: rounding on and a vertex of A
     against a known face of B (``Contacts.face`` = 0)."""
     return rnd.radius > 0.0 and c.face[k] == 0 and c.vertex_a[k] >= 0 and c.edge_b[k] >= 0
+
+
+def rounded_rows(c, rnd) -> np.ndarray:
+    """Rows of the live contacts of ``c`` that take the rounded geometry (``is_rounded``)."""
+    n = c.n
+    if rnd.radius <= 0.0:
+        return np.zeros(0, np.int64)
+    return np.flatnonzero((c.face[:n] == 0) & (c.vertex_a[:n] >= 0) & (c.edge_b[:n] >= 0))
 
 
 @njit(cache=True, inline="always")
@@ -257,7 +309,7 @@ def rounded_contact(rnd, s, a, b, va, e):
     if corner >= 0:
         xc, yc, nx, ny, dist = _corner_on_face_of_a(rnd, s, a, b, va, corner, xc, yc, nx, ny,
                                                     dist)
-    return xc, yc, nx, ny, dist - 2.0 * rnd.radius
+    return xc, yc, nx, ny, dist - rnd.arc[va] - rnd.arc[e]
 
 
 @njit(cache=True)

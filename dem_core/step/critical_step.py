@@ -20,7 +20,9 @@ Stiffness of contact k (rigid blocks A, B; 3 dofs each: u, v, rotation w)::
     K_k = L kn g_n g_n^T + L ks g_t g_t^T,   g = [-e, -(r_A x e), e, (r_B x e)]
 
 with e the unit normal n (g_n) or tangent t (g_t), r_A, r_B the lever arms from the centroids
-to the contact point x_A (``contacts`` module docstring) and r x e = r_x e_y - r_y e_x (2-D).
+to the contact point x_A (``contacts`` module docstring; with rounded corners the point of A's
+arc and the normal of the rounded shapes, ``contact.rounding``) and r x e = r_x e_y - r_y e_x
+(2-D).
 Every listed contact counts at full stiffness, open, slipping or broken: adding stiffness only
 raises eigenvalues, so the estimate is an upper bound of the tangent stiffness's between two
 contact searches (new contacts appear only at a search, which recomputes the step). The two
@@ -42,6 +44,7 @@ import numpy as np
 from numba import njit
 from scipy.sparse.linalg import ArpackNoConvergence, LinearOperator, eigsh
 
+from ..contact.rounding import is_rounded, no_rounding, rounded_contact
 from .kinematics import contact_normal, rotate
 from .state import FIX_ROT, FIX_X, FIX_Y
 
@@ -52,17 +55,24 @@ SMALL = 60          # dofs up to which the matrix is built and solved densely
 
 
 @njit(cache=True)
-def contact_geometry(c, s):
+def contact_geometry(c, s, rnd):
     """Each live contact's unit normal (nc, 2) and lever arms from A's and B's centroids to
-    the contact point x_A (nc, 2) each, m, at the current state."""
+    the contact point x_A (nc, 2) each, m, at the current state; a rounded contact's (``rnd``
+    the corners' Rounding) are its normal and the touch on A's arc, where its force acts
+    (``forces.contact_update``)."""
     n = c.count[0]
     normal = np.empty((n, 2))
     arm_a = np.empty((n, 2))
     arm_b = np.empty((n, 2))
     for k in range(n):
         a, b = c.block_a[k], c.block_b[k]
-        nx, ny = contact_normal(s, a, b, c.face[k], c.normal_b[k, 0], c.normal_b[k, 1])
-        x, y = rotate(s.rot, a, c.point_a[k, 0], c.point_a[k, 1])
+        if is_rounded(rnd, c, k):
+            xf, yf, nx, ny, _ = rounded_contact(rnd, s, a, b, c.vertex_a[k], c.edge_b[k])
+            d = rnd.arc[c.vertex_a[k]]
+            x, y = xf + d * nx - s.pos[a, 0], yf + d * ny - s.pos[a, 1]
+        else:
+            nx, ny = contact_normal(s, a, b, c.face[k], c.normal_b[k, 0], c.normal_b[k, 1])
+            x, y = rotate(s.rot, a, c.point_a[k, 0], c.point_a[k, 1])
         normal[k, 0], normal[k, 1] = nx, ny
         arm_a[k, 0], arm_a[k, 1] = x, y                     # x_A - pos[A]
         arm_b[k, 0] = x + s.pos[a, 0] - s.pos[b, 0]         # x_A - pos[B]
@@ -95,14 +105,15 @@ def _product(x, block_a, block_b, kn_l, ks_l, normal, arm_a, arm_b, scale):
     return y * scale
 
 
-def largest_omega2(c, s, p) -> float:
-    """omega_max^2 (1/s^2) of the free blocks on their contacts (module docstring); 0.0 for a
-    model with no contact or no free dof. The Lanczos start is the same vector every time, so
+def largest_omega2(c, s, p, rnd=None) -> float:
+    """omega_max^2 (1/s^2) of the free blocks on their contacts (module docstring; ``rnd``
+    the corners' Rounding, None: sharp corners); 0.0 for a model with no contact or no free
+    dof. The Lanczos start is the same vector every time, so
     the value is a function of the state alone (a saved and reloaded model steps as before)."""
     n = c.count[0]
     if n == 0:
         return 0.0
-    normal, arm_a, arm_b = contact_geometry(c, s)
+    normal, arm_a, arm_b = contact_geometry(c, s, no_rounding() if rnd is None else rnd)
     free = np.column_stack([(p.fixity & FIX_X) == 0, (p.fixity & FIX_Y) == 0,
                             (p.fixity & FIX_ROT) == 0]) & (p.active > 0)[:, None]
     scale = np.where(free, np.sqrt(np.column_stack([p.inv_mass, p.inv_mass, p.inv_inertia])),

@@ -5,8 +5,7 @@ Central differences are stable for ``dt < 2 / omega_max`` (e.g. Belytschko, Liu 
 Nonlinear Finite Elements, ch. 6). omega_max^2 is bounded block by block (Gershgorin 1931:
 every eigenvalue lies within a row's diagonal plus its off-diagonal sum, here
 ``run.frequency_bound``), or taken as the largest eigenvalue of the contact stiffness
-(``critical_step``, ``SolverOptions.step_estimate = "eigen"``, or "auto" on rigid blocks with
-sharp corners). The step is
+(``critical_step``, ``SolverOptions.step_estimate = "eigen"``, or "auto" on rigid blocks). The step is
 ``dt = safety x 2 / omega_max`` unless a fixed ``dt`` is given.
 
 Three more things set omega_max:
@@ -103,10 +102,9 @@ def _check_representable(w2max, table, has_support) -> None:
 
 def _eigen(options, world) -> bool:
     """Whether the step comes from the largest eigenvalue: "eigen", or "auto" on rigid blocks
-    with sharp corners (``critical_step`` has no zones or rounded corners)."""
+    (``critical_step`` has no zones)."""
     return options.step_estimate == "eigen" or (
-        options.step_estimate == "auto" and not options.rounding
-        and zone_kernels.is_empty(world.zones))
+        options.step_estimate == "auto" and zone_kernels.is_empty(world.zones))
 
 
 def _mass_scale(w2, moving, mass_scaling):
@@ -129,7 +127,7 @@ def _eigen_omega2(world, moving, guard, support_w2):
     alone = moving.copy()
     alone[c.block_a[:c.n]] = False
     alone[c.block_b[:c.n]] = False
-    lam = critical_step.largest_omega2(c, world.state, world.props)
+    lam = critical_step.largest_omega2(c, world.state, world.props, world.corners)
     lone = float(guard[alone].max()) if alone.any() else 0.0
     return max(lam, lone) + 2.0 * float(support_w2[moving].max())
 
