@@ -25,10 +25,14 @@ Stage list (``schedule_stages``):
    told from the elastic settlement (a slope that stood does not move in them).
 
 The mechanism (``moving_blocks``): the blocks that moved during the post-failure steps by more
-than a fraction (0.2) of the largest block's motion then. Their motion in those steps, not their
-displacement since the start, picks them out: the elastic settlement under gravity (up to 5 cm
-at the face of the underdip slope) is as large as a mechanism that has just started, and under
-local damping a failing slope creeps (0.1-0.3 m in 10,000-20,000 steps).
+than a fraction (0.2) of the motion of the fastest 1 % of the blocks then (the 99th percentile
+of the active blocks' motion: a few loose blocks running off the crest do not set the scale;
+with rounded corners, the default since 2026-12-02, they run 0.34 m where the underdip slope's
+failing mass moves 0.05-0.15 m, and the largest motion left out everything below mid-height).
+Their motion in those steps, not their displacement since the start, picks them out: the elastic
+settlement under gravity (up to 5 cm at the face of the underdip slope) is as large as a
+mechanism that has just started, and under local damping a failing slope creeps (0.1-0.3 m in
+10,000-20,000 steps).
 """
 from __future__ import annotations
 
@@ -83,21 +87,26 @@ def run_schedule(sc, member: dict, locate, read=None) -> tuple:
     return run, mechanism
 
 
-def moving_blocks(run: dict, fraction: float = 0.2, min_motion: float = 0.02) -> dict | None:
+def moving_blocks(run: dict, fraction: float = 0.2, min_motion: float = 0.02,
+                  percentile: float = 99.0) -> dict | None:
     """The mechanism of a failed run: the active blocks that moved, during its last stage (the
-    post-failure steps), more than ``fraction`` of the largest block's motion in it; None when
-    no block moved more than ``min_motion`` (m) then (the slope stood). Needs the run's
+    post-failure steps), more than ``fraction`` of the ``percentile``-th percentile of the
+    active blocks' motion in it (100: the largest block's, the rule before 2026-12-02); None
+    when no block moved more than ``min_motion`` (m) then (the slope stood). Needs the run's
     ``poses`` (``staged.stage_run(..., poses=True)``). Returns the blocks' start centroids
-    ``xy0`` (n, 2) m, their motion in the last stage ``du`` (n, 2) m and ``largest`` (m)."""
+    ``xy0`` (n, 2) m, their motion in the last stage ``du`` (n, 2) m, ``largest`` (m) and
+    ``scale`` (m, the percentile the fraction is of)."""
     (pos_a, _), (pos_b, _) = run["poses"][-2], run["poses"][-1]
     du = np.asarray(pos_b) - np.asarray(pos_a)
-    size = np.hypot(du[:, 0], du[:, 1]) * np.asarray(run["picture"]["active"]).astype(bool)
+    active = np.asarray(run["picture"]["active"]).astype(bool)
+    size = np.hypot(du[:, 0], du[:, 1]) * active
     largest = float(size.max()) if size.size else 0.0
     if largest < min_motion:
         return None
-    keep = size > fraction * largest
+    scale = float(np.percentile(size[active], percentile))
+    keep = size > fraction * scale
     return {"xy0": np.asarray(run["picture"]["pos0"])[keep], "du": du[keep],
-            "n": int(keep.sum()), "largest": largest}
+            "n": int(keep.sum()), "largest": largest, "scale": scale}
 
 
 def continuum_scene(sc, regions, materials: dict, h: float, f_max: float = 6.0,

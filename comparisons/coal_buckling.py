@@ -20,9 +20,9 @@ crosses the cut (e / t from mid-layer). A masonry layer stands while that line s
 its section; against it, the thrust a free slab on its basal plane hands to the toe
 (``free_slab_thrust``).
 
-Buckle (``buckle``): after the first failed level the model runs ``post_failure_steps`` more
-steps; the layer blocks that moved in them by more than ``FRACTION`` of the largest block's
-motion are the failing part (``chapter5.moving_blocks``); the buckle is where the layer moved
+Buckle (``buckle``): after the first failed level the model runs ``post_failure_steps`` more steps;
+the layer blocks that moved in them by more than ``FRACTION`` of the motion of the fastest 1 % of
+the blocks are the failing part (``chapter5.moving_blocks``); the buckle is where the layer moved
 furthest out of the face then (along the face's outward normal): its height above the toe as a
 fraction of the slope height (the thesis: the lower third), and the heights of the lowest and
 highest moving blocks.
@@ -48,7 +48,7 @@ REFERENCE = {
 }
 FAILURE_DISPLACEMENT = 0.5      # m of a watched point in one level
 CREEP = 2e-3                    # m over the last fifth of a level: still moving
-FRACTION, MIN_MOTION = 0.2, 0.02   # the mechanism: moving > 0.2 x the largest motion (> 2 cm)
+FRACTION, MIN_MOTION = 0.2, 0.02   # the mechanism: moving > 0.2 x the fastest 1 % (> 2 cm)
 WATCH = ("toe", "lower", "middle", "upper", "crest")
 
 VARIANTS = {
