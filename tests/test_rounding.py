@@ -8,6 +8,9 @@
 - A corner driven round the end of a face turns its normal continuously, and the energy of the
   frictionless, undamped motion does not grow.
 - Bad values raise ValueError naming them.
+- ``rounding="auto"`` (the default): 1 % of the median edge on every block, less on a block
+  with a sharp corner or a short edge (by the closed forms of the clearance and the largest
+  rounding); sharp corners on deformable blocks; saved and loaded to the bit.
 """
 import math
 from pathlib import Path
@@ -186,3 +189,45 @@ def test_bad_rounding_raises_naming_the_value(bad):
         Model(bs, {"flaw:*": Material(kn=KN, ks=KN, friction=30.0)}, density=2000,
               rounding=bad)
     assert repr(bad) in str(err.value)
+
+
+def wedge(x0, angle_deg, length=1.0):
+    """A triangle with one corner of ``angle_deg`` at (x0, 0) and a right angle (CCW)."""
+    a = math.radians(angle_deg)
+    return [(x0, 0.0), (x0 + length, 0.0), (x0 + length, length * math.tan(a))]
+
+
+def test_auto_rounds_each_block_by_its_own_corners_and_edges():
+    # d = 1 % of the median edge; a block whose sharpest corner (a) would hang clear of a face
+    # by more than a right angle's d (sqrt 2 - 1) takes d (sqrt 2 - 1) / (1/sin(a/2) - 1);
+    # one with an edge the radius would consume, half its largest rounding
+    polys = [[(0, 0), (1, 0), (1, 1), (0, 1)] for _ in range(4)]
+    polys = [[(x + 2 * i, y) for x, y in p] for i, p in enumerate(polys)]
+    polys += [wedge(10.0, 20.0), [(12, 0), (13, 0), (13, 1e-4), (12, 1e-4)]]
+    bs = from_polygons(polys)
+    m = Model(bs, {"flaw:*": Material(kn=KN, ks=KN, friction=30.0)}, density=2000)
+    off = m.props.vertex_offsets
+    edges = np.concatenate([np.hypot(*np.diff(np.vstack([p, p[:1]]), axis=0).T)
+                            for p in map(np.asarray, polys)])
+    d = 0.01 * np.median(edges)
+    arc = m.corners.arc
+    for b in range(4):
+        assert np.all(arc[off[b]:off[b + 1]] == pytest.approx(d, rel=1e-12))
+    clear = 1 / math.sin(math.radians(10.0)) - 1
+    assert arc[off[4]] == pytest.approx(d * (math.sqrt(2) - 1) / clear, rel=1e-9)
+    assert arc[off[5]] == pytest.approx(0.5 * 1e-4 / 2, rel=1e-9)     # L / (cot 45 + cot 45)
+    # the wedge's 20 deg corner stands off its face by the right angle's clearance, no more
+    assert arc[off[4]] * clear == pytest.approx(d * (math.sqrt(2) - 1), rel=1e-9)
+
+
+def test_auto_is_sharp_on_deformable_blocks_and_survives_save_and_load(tmp_path):
+    bs = from_polygons([[(0, 0), (1, 0), (1, 1), (0, 1)], [(0, 1), (1, 1), (1, 2), (0, 2)]])
+    mats = {"flaw:*": Material(kn=KN, ks=KN, friction=30.0)}
+    soft = Model(bs, mats, density=2000, block_E=1e9, deformable={"*": 0.5})
+    assert soft.corners.radius == 0.0 and soft.options.rounding == 0.0
+    m = Model(bs, mats, density=2000)
+    assert m.options.rounding == "auto" and m.corners.radius == pytest.approx(0.01)
+    m.save(tmp_path / "m.npz")
+    back = Model.load(tmp_path / "m.npz")
+    assert np.array_equal(back.corners.arc, m.corners.arc)
+    assert np.array_equal(back.corners.centre, m.corners.centre)

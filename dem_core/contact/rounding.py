@@ -152,19 +152,34 @@ def largest_rounding(offsets, local):
 
 
 def block_roundings(offsets, local, fraction=None):
-    """(nb,) radius of each block for ``rounding="auto"`` (m): ``fraction`` of the median
-    edge length of all the blocks (UDEC's advice: about 1 % of the typical edge), and at most
-    ``MAX_ROUNDING_FRACTION`` of the block's own largest rounding (``largest_rounding``), so
-    a sliver keeps its edges and every other block gets the full radius (``fraction`` None:
-    ``AUTO_FRACTION``)."""
+    """(nb,) radius of each block for ``rounding="auto"`` (m): ``fraction`` (None:
+    ``AUTO_FRACTION``) of the median edge length of all the blocks, d (UDEC's advice: about
+    1 % of the typical edge), lowered on a block
+
+    - whose sharpest corner (interior angle a) would stand clear of a face it is placed on by
+      more than a right angle's corner does, d (sqrt 2 - 1): to d (sqrt 2 - 1) / (1/sin(a/2) -
+      1) (UDEC's rounding length, the distance from a corner to its tangent points, bounds the
+      same clearance; a 20 deg corner rounded with d would hang 4.8 d clear and its block
+      drop onto the next);
+    - whose edges the radius would consume: to ``MAX_ROUNDING_FRACTION`` of the block's
+      largest rounding (``largest_rounding``).
+
+    So slivers and wedges keep their edges and their contacts, and every other block gets d."""
     fraction = AUTO_FRACTION if fraction is None else fraction
     offsets = np.asarray(offsets, np.int64)
     local = np.asarray(local, np.float64)
-    nxt, _ = _rings(offsets)
+    nxt, prv = _rings(offsets)
     e = local[nxt] - local
-    d = fraction * float(np.median(np.hypot(e[:, 0], e[:, 1])))
+    length = np.hypot(e[:, 0], e[:, 1])
+    d = fraction * float(np.median(length))
     limit = np.minimum.reduceat(_edge_limits(offsets, local), offsets[:-1])
-    return np.minimum(d, MAX_ROUNDING_FRACTION * limit)
+    t = e / length[:, None]
+    half = 0.5 * np.arccos(np.clip(-(t[prv] * t).sum(axis=1), -1.0, 1.0))
+    clear = 1.0 / np.maximum(np.sin(half), 1e-300) - 1.0       # clearance over radius
+    worst = np.maximum.reduceat(clear, offsets[:-1])
+    right = math.sqrt(2.0) - 1.0
+    by_corner = d * np.minimum(1.0, right / np.maximum(worst, 1e-300))
+    return np.minimum(by_corner, MAX_ROUNDING_FRACTION * limit)
 
 
 def rounding_bundle(props, radius) -> Rounding:
